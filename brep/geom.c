@@ -1,0 +1,65 @@
+#include "brep/geom.h"
+
+#include <string.h>
+
+void cb_xform_identity(cb_xform *x)
+{
+    memset(x, 0, sizeof *x);
+    x->r[0][0] = x->r[1][1] = x->r[2][2] = 1.0;
+}
+
+void cb_xform_rotation(cb_xform *x, const double point[3], const double axis[3], double angle)
+{
+    double k[3] = {axis[0], axis[1], axis[2]};
+    cb_vec3_normalize(k);
+    double c = cos(angle), s = sin(angle), C = 1.0 - c;
+    /* Rodrigues' formula. */
+    x->r[0][0] = c + k[0] * k[0] * C;
+    x->r[0][1] = k[0] * k[1] * C - k[2] * s;
+    x->r[0][2] = k[0] * k[2] * C + k[1] * s;
+    x->r[1][0] = k[1] * k[0] * C + k[2] * s;
+    x->r[1][1] = c + k[1] * k[1] * C;
+    x->r[1][2] = k[1] * k[2] * C - k[0] * s;
+    x->r[2][0] = k[2] * k[0] * C - k[1] * s;
+    x->r[2][1] = k[2] * k[1] * C + k[0] * s;
+    x->r[2][2] = c + k[2] * k[2] * C;
+    /* Fix `point`: t = point - R point. */
+    double rp[3];
+    for (int i = 0; i < 3; i++)
+        rp[i] = x->r[i][0] * point[0] + x->r[i][1] * point[1] + x->r[i][2] * point[2];
+    for (int i = 0; i < 3; i++)
+        x->t[i] = point[i] - rp[i];
+}
+
+void cb_xform_translation(cb_xform *x, const double t[3])
+{
+    cb_xform_identity(x);
+    memcpy(x->t, t, sizeof x->t);
+}
+
+void cb_xform_compose(cb_xform *out, const cb_xform *a, const cb_xform *b)
+{
+    cb_xform r;
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++)
+            r.r[i][j] = a->r[i][0] * b->r[0][j] + a->r[i][1] * b->r[1][j] + a->r[i][2] * b->r[2][j];
+        r.t[i] = a->r[i][0] * b->t[0] + a->r[i][1] * b->t[1] + a->r[i][2] * b->t[2] + a->t[i];
+    }
+    *out = r;
+}
+
+void cb_xform_apply_vector(double out[3], const cb_xform *x, const double v[3])
+{
+    double r[3];
+    for (int i = 0; i < 3; i++)
+        r[i] = x->r[i][0] * v[0] + x->r[i][1] * v[1] + x->r[i][2] * v[2];
+    memcpy(out, r, sizeof r);
+}
+
+void cb_xform_apply_point(double out[3], const cb_xform *x, const double p[3])
+{
+    double r[3];
+    cb_xform_apply_vector(r, x, p);
+    for (int i = 0; i < 3; i++)
+        out[i] = r[i] + x->t[i];
+}

@@ -1,0 +1,57 @@
+/* geom.h — small 3D vector helpers and rigid transforms. */
+#ifndef CB_GEOM_H
+#define CB_GEOM_H
+
+#include <math.h>
+
+static inline double cb_vec3_dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static inline void cb_vec3_cross(double r[3], const double a[3], const double b[3])
+{
+    double x = a[1] * b[2] - a[2] * b[1];
+    double y = a[2] * b[0] - a[0] * b[2];
+    double z = a[0] * b[1] - a[1] * b[0];
+    r[0] = x;
+    r[1] = y;
+    r[2] = z;
+}
+
+static inline double cb_vec3_norm(const double a[3]) { return sqrt(cb_vec3_dot(a, a)); }
+
+static inline double cb_vec3_dist(const double a[3], const double b[3])
+{
+    double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+    return cb_vec3_norm(d);
+}
+
+/* Scales a to unit length; returns its former length (0 leaves a unchanged). */
+static inline double cb_vec3_normalize(double a[3])
+{
+    double n = cb_vec3_norm(a);
+    if (n > 0) {
+        a[0] /= n;
+        a[1] /= n;
+        a[2] /= n;
+    }
+    return n;
+}
+
+/* A rigid motion x -> R x + t (R orthonormal, det +1). */
+typedef struct {
+    double r[3][3];
+    double t[3];
+} cb_xform;
+
+void cb_xform_identity(cb_xform *x);
+/* Rotation by angle (radians) about the line through `point` with direction `axis`. */
+void cb_xform_rotation(cb_xform *x, const double point[3], const double axis[3], double angle);
+void cb_xform_translation(cb_xform *x, const double t[3]);
+/* out = a ∘ b (apply b first, then a); out may alias a or b. */
+void cb_xform_compose(cb_xform *out, const cb_xform *a, const cb_xform *b);
+void cb_xform_apply_point(double out[3], const cb_xform *x, const double p[3]);
+void cb_xform_apply_vector(double out[3], const cb_xform *x, const double v[3]);
+
+#endif

@@ -1,0 +1,41 @@
+/* colibri — command-line front end. */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli/commands.h"
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: colibri COMMAND [options] [files]\n"
+            "\n"
+            "Solid Booleans on B-rep models with B-spline faces.\n"
+            "\n"
+            "commands:\n"
+            "  info FILE     load a model and print what it holds (patches, degrees, bounds)\n"
+            "\n"
+            "Run 'colibri COMMAND --help' for the options of a command.\n"
+            "Exit status: 0 success, 1 the input was rejected or the work failed, 2 bad usage.\n");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return 2;
+    }
+    const char *cmd = argv[1];
+    if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) {
+        usage(stdout);
+        return 0;
+    }
+    if (!strcmp(cmd, "--version")) {
+        printf("colibri %s\n", COLIBRI_VERSION);
+        return 0;
+    }
+    if (!strcmp(cmd, "info"))
+        return cb_cli_info(argc - 1, argv + 1);
+    fprintf(stderr, "colibri: unknown command '%s'\n", cmd);
+    usage(stderr);
+    return 2;
+}
