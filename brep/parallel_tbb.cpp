@@ -20,8 +20,12 @@ extern "C" cb_status cb_parallel_for(size_t n, size_t grain, int threads, cb_par
             body(ctx, b, b + grain < n ? b + grain : n);
         return CB_OK;
     }
+    // More threads than the hardware offers only makes oneTBB warn and ignore the request.
+    int hw = tbb::info::default_concurrency();
+    if (threads <= 0 || threads > hw)
+        threads = hw;
     try {
-        tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+        tbb::task_arena arena(threads);
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain),
                               [&](const tbb::blocked_range<size_t> &r) {
