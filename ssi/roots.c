@@ -1,0 +1,312 @@
+/* Real-root isolation by Descartes' rule of signs with exact Taylor shifts (VCA). */
+#include "ssi/roots.h"
+
+#include <stdlib.h>
+
+#include <flint/fmpq_poly.h>
+
+void cb_roots_init(cb_roots_t r)
+{
+    fmpz_poly_init(r->sqfree);
+    r->n = r->alloc = 0;
+    r->root = NULL;
+}
+
+static void roots_reset(cb_roots_t r)
+{
+    for (slong k = 0; k < r->n; k++) {
+        fmpq_clear(r->root[k].lo);
+        fmpq_clear(r->root[k].hi);
+    }
+    r->n = 0;
+}
+
+void cb_roots_clear(cb_roots_t r)
+{
+    roots_reset(r);
+    flint_free(r->root);
+    fmpz_poly_clear(r->sqfree);
+}
+
+/* Appends the interval [lo, hi], taking over the values of lo and hi (left zero). */
+static void roots_push(cb_roots_t r, fmpq_t lo, fmpq_t hi)
+{
+    if (r->n == r->alloc) {
+        r->alloc = r->alloc ? 2 * r->alloc : 8;
+        r->root = flint_realloc(r->root, (size_t)r->alloc * sizeof *r->root);
+    }
+    cb_root_interval_struct *iv = r->root + r->n++;
+    *iv->lo = *lo;
+    *iv->hi = *hi;
+    fmpq_init(lo);
+    fmpq_init(hi);
+}
+
+/* out = a + (b - a) c / 2^k: the image of a dyadic point of the unit interval. */
+static void unit_to_interval(fmpq_t out, const fmpz_t c, ulong k, const fmpq_t a,
+                             const fmpq_t len)
+{
+    fmpz_t den;
+    fmpz_init(den);
+    fmpz_one_2exp(den, k);
+    fmpq_set_fmpz_frac(out, c, den);
+    fmpq_mul(out, out, len);
+    fmpq_add(out, out, a);
+    fmpz_clear(den);
+}
+
+static slong sign_variations(const fmpz_poly_t p)
+{
+    slong v = 0;
+    int last = 0;
+    for (slong i = 0; i < fmpz_poly_length(p); i++) {
+        int s = fmpz_sgn(p->coeffs + i);
+        if (s) {
+            if (last && s != last)
+                v++;
+            last = s;
+        }
+    }
+    return v;
+}
+
+/* Descartes' bound on the roots of p in (0, 1): the sign variations of (x + 1)^n p(1/(x + 1)),
+ * exact when it is 0 or 1. */
+static slong descartes_unit(const fmpz_poly_t p, fmpz_poly_t tmp, const fmpz_t one)
+{
+    fmpz_poly_reverse(tmp, p, fmpz_poly_length(p));
+    fmpz_poly_taylor_shift(tmp, tmp, one);
+    return sign_variations(tmp);
+}
+
+/* A piece of the unit interval still to examine: (c / 2^k, (c + 1) / 2^k), with p the
+ * polynomial mapped onto it so that the piece is (0, 1) for p. An end point that is a root
+ * (already reported exactly and divided out of p) is flagged: an isolating interval must not
+ * end on a root, so a flagged piece with one root is halved until the root is off the flag. */
+typedef struct {
+    fmpz_poly_t p;
+    fmpz_t c;
+    ulong k;
+    int root_lo, root_hi;
+} piece;
+
+typedef struct {
+    piece *item;
+    slong n, alloc;
+} piece_stack;
+
+static piece *stack_push(piece_stack *s)
+{
+    if (s->n == s->alloc) {
+        s->alloc = s->alloc ? 2 * s->alloc : 16;
+        s->item = flint_realloc(s->item, s->alloc * sizeof *s->item);
+    }
+    piece *it = &s->item[s->n++];
+    fmpz_poly_init(it->p);
+    fmpz_init(it->c);
+    return it;
+}
+
+static void record_open(cb_roots_t r, const piece *it, const fmpq_t a, const fmpq_t len)
+{
+    fmpq_t lo, hi;
+    fmpz_t c1;
+    fmpq_init(lo);
+    fmpq_init(hi);
+    fmpz_init(c1);
+    fmpz_add_ui(c1, it->c, 1);
+    unit_to_interval(lo, it->c, it->k, a, len);
+    unit_to_interval(hi, c1, it->k, a, len);
+    roots_push(r, lo, hi);
+    fmpz_clear(c1);
+}
+
+static void record_exact(cb_roots_t r, const fmpq_t x)
+{
+    fmpq_t lo, hi;
+    fmpq_init(lo);
+    fmpq_init(hi);
+    fmpq_set(lo, x);
+    fmpq_set(hi, x);
+    roots_push(r, lo, hi);
+}
+
+/* Divides p by x (p(0) = 0) or by x - 1 (p(1) = 0); both divisions are exact. */
+static void divide_by_x(fmpz_poly_t p) { fmpz_poly_shift_right(p, p, 1); }
+
+static void divide_by_x_minus_1(fmpz_poly_t p)
+{
+    fmpz_poly_t d;
+    fmpz_poly_init(d);
+    fmpz_poly_set_coeff_si(d, 0, -1);
+    fmpz_poly_set_coeff_si(d, 1, 1);
+    fmpz_poly_div(p, p, d);
+    fmpz_poly_clear(d);
+}
+
+/* Isolates the roots of u in the open unit interval; u squarefree, u(0), u(1) != 0; root_lo
+ * and root_hi say whether 0 and 1 are roots of the polynomial u was divided from. */
+static void isolate_unit(cb_roots_t r, const fmpz_poly_t u, int root_lo, int root_hi,
+                         const fmpq_t a, const fmpq_t len)
+{
+    piece_stack st = {NULL, 0, 0};
+    fmpz_poly_t tmp;
+    fmpz_t one;
+    fmpq_t x;
+    fmpz_poly_init(tmp);
+    fmpz_init_set_ui(one, 1);
+    fmpq_init(x);
+    piece *first = stack_push(&st);
+    fmpz_poly_set(first->p, u);
+    first->k = 0;
+    first->root_lo = root_lo;
+    first->root_hi = root_hi;
+    while (st.n > 0) {
+        piece it = st.item[--st.n];
+        slong v = descartes_unit(it.p, tmp, one);
+        if (v == 1 && !it.root_lo && !it.root_hi) {
+            record_open(r, &it, a, len);
+        } else if (v >= 1) {
+            /* Halve: left(x) = 2^n p(x / 2) on (0, 1/2), right(x) = left(x + 1) on (1/2, 1). */
+            slong n = fmpz_poly_degree(it.p);
+            stack_push(&st);
+            stack_push(&st); /* both pushed before taking pointers: a push may move the stack */
+            piece *right = &st.item[st.n - 2], *left = &st.item[st.n - 1];
+            fmpz_poly_set(left->p, it.p);
+            for (slong i = 0; i <= n; i++)
+                fmpz_mul_2exp(left->p->coeffs + i, left->p->coeffs + i, (ulong)(n - i));
+            fmpz_poly_taylor_shift(right->p, left->p, one);
+            left->k = right->k = it.k + 1;
+            fmpz_mul_2exp(left->c, it.c, 1);
+            fmpz_add_ui(right->c, left->c, 1);
+            left->root_lo = it.root_lo;
+            right->root_hi = it.root_hi;
+            left->root_hi = right->root_lo = fmpz_is_zero(right->p->coeffs);
+            if (left->root_hi) {
+                /* The midpoint is a root: report it exactly and keep it off both halves. */
+                unit_to_interval(x, right->c, right->k, a, len);
+                record_exact(r, x);
+                divide_by_x(right->p);
+                divide_by_x_minus_1(left->p);
+            }
+        }
+        fmpz_poly_clear(it.p);
+        fmpz_clear(it.c);
+    }
+    flint_free(st.item);
+    fmpq_clear(x);
+    fmpz_clear(one);
+    fmpz_poly_clear(tmp);
+}
+
+static int cmp_interval(const void *pa, const void *pb)
+{
+    const cb_root_interval_struct *a = pa, *b = pb;
+    return fmpq_cmp(a->lo, b->lo);
+}
+
+cb_status cb_roots_isolate(cb_roots_t r, const fmpz_poly_t p, const fmpq_t a, const fmpq_t b,
+                           cb_error *err)
+{
+    if (fmpz_poly_is_zero(p))
+        return cb_error_set(err, CB_ERR_INVALID,
+                            "root isolation: the zero polynomial vanishes everywhere");
+    if (fmpq_cmp(a, b) >= 0)
+        return cb_error_set(err, CB_ERR_INVALID, "root isolation: empty interval [a, b], a >= b");
+    roots_reset(r);
+    if (fmpz_poly_degree(p) < 1) {
+        fmpz_poly_set_ui(r->sqfree, 1);
+        return CB_OK;
+    }
+
+    fmpz_poly_t g, u;
+    fmpq_poly_t q, lin;
+    fmpq_t len;
+    fmpz_poly_init(g);
+    fmpz_poly_init(u);
+    fmpq_poly_init(q);
+    fmpq_poly_init(lin);
+    fmpq_init(len);
+
+    fmpz_poly_derivative(g, p);
+    fmpz_poly_gcd(g, p, g);
+    fmpz_poly_div(r->sqfree, p, g);
+    fmpz_poly_primitive_part(r->sqfree, r->sqfree);
+
+    /* u(x) = sqfree(a + (b - a) x) with its denominators cleared: [a, b] becomes [0, 1]. */
+    fmpq_sub(len, b, a);
+    fmpq_poly_set_coeff_fmpq(lin, 0, a);
+    fmpq_poly_set_coeff_fmpq(lin, 1, len);
+    fmpq_poly_set_fmpz_poly(q, r->sqfree);
+    fmpq_poly_compose(q, q, lin);
+    fmpq_poly_get_numerator(u, q);
+    fmpz_poly_primitive_part(u, u);
+
+    int root_at_a = fmpz_is_zero(u->coeffs);
+    if (root_at_a) {
+        record_exact(r, a);
+        divide_by_x(u);
+    }
+    fmpz_t sum;
+    fmpz_init(sum);
+    for (slong i = 0; i < fmpz_poly_length(u); i++)
+        fmpz_add(sum, sum, u->coeffs + i);
+    int root_at_b = fmpz_is_zero(sum);
+    fmpz_clear(sum);
+    if (root_at_b)
+        divide_by_x_minus_1(u);
+    if (fmpz_poly_degree(u) >= 1)
+        isolate_unit(r, u, root_at_a, root_at_b, a, len);
+    if (root_at_b)
+        record_exact(r, b);
+    qsort(r->root, (size_t)r->n, sizeof *r->root, cmp_interval);
+
+    fmpq_clear(len);
+    fmpq_poly_clear(lin);
+    fmpq_poly_clear(q);
+    fmpz_poly_clear(u);
+    fmpz_poly_clear(g);
+    return CB_OK;
+}
+
+void cb_roots_refine(cb_roots_t r, slong k, const fmpq_t width)
+{
+    cb_root_interval_struct *iv = &r->root[k];
+    fmpq_t w, mid, val;
+    fmpq_init(w);
+    fmpq_init(mid);
+    fmpq_init(val);
+    fmpz_poly_evaluate_fmpq(val, r->sqfree, iv->lo);
+    int sign_lo = fmpq_sgn(val);
+    fmpq_sub(w, iv->hi, iv->lo);
+    while (fmpq_cmp(w, width) > 0) {
+        fmpq_add(mid, iv->lo, iv->hi);
+        fmpq_div_2exp(mid, mid, 1);
+        fmpz_poly_evaluate_fmpq(val, r->sqfree, mid);
+        int s = fmpq_sgn(val);
+        if (s == 0) {
+            fmpq_set(iv->lo, mid);
+            fmpq_set(iv->hi, mid);
+            break;
+        }
+        if (s == sign_lo)
+            fmpq_set(iv->lo, mid);
+        else
+            fmpq_set(iv->hi, mid);
+        fmpq_div_2exp(w, w, 1);
+    }
+    fmpq_clear(val);
+    fmpq_clear(mid);
+    fmpq_clear(w);
+}
+
+double cb_roots_mid_d(const cb_roots_t r, slong k)
+{
+    fmpq_t mid;
+    fmpq_init(mid);
+    fmpq_add(mid, r->root[k].lo, r->root[k].hi);
+    fmpq_div_2exp(mid, mid, 1);
+    double d = fmpq_get_d(mid);
+    fmpq_clear(mid);
+    return d;
+}
