@@ -259,7 +259,8 @@ cb_status cb_roots_isolate(cb_roots_t r, const fmpz_poly_t p, const fmpq_t a, co
         isolate_unit(r, u, root_at_a, root_at_b, a, len);
     if (root_at_b)
         record_exact(r, b);
-    qsort(r->root, (size_t)r->n, sizeof *r->root, cmp_interval);
+    if (r->n > 1)
+        qsort(r->root, (size_t)r->n, sizeof *r->root, cmp_interval);
 
     fmpq_clear(len);
     fmpq_poly_clear(lin);

@@ -1,0 +1,229 @@
+/* Exact rational B-spline forms of circular arcs and of the analytic surfaces. */
+#include "brep/analytic.h"
+
+#include <string.h>
+
+static const double pi = 3.14159265358979323846;
+
+enum { ARC_MAX_SEGS = 4, ARC_MAX_POINTS = 2 * ARC_MAX_SEGS + 1 };
+
+/* The unit arc t -> (cos t, sin t), t in [a0, a1] (at most one turn), as n rational quadratic
+ * Bezier segments of equal angle <= pi/2 (The NURBS Book A7.1): 2 n + 1 points xy with weights
+ * w, and 2 n + 4 knots, the interior ones doubled at the segment angles. Returns n. End points
+ * of segments are computed from their angles, so they are the exact circle points to round-off
+ * and the parameter at a knot equals the angle. */
+static int unit_arc(double xy[ARC_MAX_POINTS][2], double w[ARC_MAX_POINTS],
+                    double knots[ARC_MAX_POINTS + 3], double a0, double a1)
+{
+    double span = a1 - a0;
+    int n = span <= 0.5 * pi ? 1 : span <= pi ? 2 : span <= 1.5 * pi ? 3 : 4;
+    double th[ARC_MAX_SEGS + 1];
+    for (int k = 0; k < n; k++)
+        th[k] = a0 + span * k / n;
+    th[n] = a1;
+    for (int k = 0; k <= n; k++) {
+        xy[2 * k][0] = cos(th[k]);
+        xy[2 * k][1] = sin(th[k]);
+        w[2 * k] = 1.0;
+    }
+    for (int k = 0; k < n; k++) {
+        /* The middle point sits on the bisector where the end tangents meet, at distance
+         * 1 / cos(half angle); its weight cos(half angle) makes the segment circular. */
+        double half = 0.5 * (th[k + 1] - th[k]), mid = th[k] + half, wm = cos(half);
+        xy[2 * k + 1][0] = cos(mid) / wm;
+        xy[2 * k + 1][1] = sin(mid) / wm;
+        w[2 * k + 1] = wm;
+    }
+    knots[0] = knots[1] = knots[2] = a0;
+    for (int k = 1; k < n; k++)
+        knots[2 * k + 1] = knots[2 * k + 2] = th[k];
+    knots[2 * n + 1] = knots[2 * n + 2] = knots[2 * n + 3] = a1;
+    return n;
+}
+
+static cb_status check_range(double a, double b, const char *what, cb_error *err)
+{
+    if (!(isfinite(a) && isfinite(b) && a < b))
+        return cb_error_set(err, CB_ERR_INVALID, "%s range [%.17g, %.17g] is empty or not finite",
+                            what, a, b);
+    return CB_OK;
+}
+
+/* A non-empty angle range of at most one turn. b = a + 2 pi as computed in double counts as one
+ * turn even where the rounding makes b - a exceed 2 pi by an ulp, so full turns built the
+ * obvious way are accepted without a tolerance. */
+static cb_status check_angle_range(double a, double b, const char *what, cb_error *err)
+{
+    cb_status st = check_range(a, b, what, err);
+    if (!st && !(b - a <= 2.0 * pi || b <= a + 2.0 * pi))
+        st = cb_error_set(err, CB_ERR_INVALID,
+                          "%s range [%.17g, %.17g] spans %.17g, more than 2 pi", what, a, b, b - a);
+    return st;
+}
+
+cb_status cb_nurbs_curve_arc(cb_nurbs_curve_t c, const double center[3], const double xdir[3],
+                             const double ydir[3], double radius, double a0, double a1,
+                             cb_error *err)
+{
+    for (int i = 0; i < 3; i++)
+        if (!isfinite(center[i]) || !isfinite(xdir[i]) || !isfinite(ydir[i]))
+            return cb_error_set(err, CB_ERR_INVALID,
+                                "arc: center, xdir or ydir is not finite (coordinate %c)",
+                                "xyz"[i]);
+    if (!(isfinite(radius) && radius > 0))
+        return cb_error_set(err, CB_ERR_INVALID, "arc: radius %.17g must be finite and > 0",
+                            radius);
+    double nrm[3];
+    cb_vec3_cross(nrm, xdir, ydir);
+    if (nrm[0] == 0 && nrm[1] == 0 && nrm[2] == 0)
+        return cb_error_set(err, CB_ERR_INVALID,
+                            "arc: xdir and ydir are zero or parallel; they span no plane");
+    cb_status st = check_angle_range(a0, a1, "arc: angle", err);
+    if (st)
+        return st;
+    double xy[ARC_MAX_POINTS][2], w[ARC_MAX_POINTS], knots[ARC_MAX_POINTS + 3];
+    int n = unit_arc(xy, w, knots, a0, a1);
+    int np = 2 * n + 1;
+    cb_nurbs_curve_t t;
+    cb_nurbs_curve_init(t);
+    if ((st = cb_nurbs_curve_alloc(t, 2, np, err)))
+        return st;
+    memcpy(t->knots, knots, (size_t)(np + 3) * sizeof *knots);
+    for (int k = 0; k < np; k++) {
+        double *cw = t->cw + 4 * k;
+        for (int i = 0; i < 3; i++)
+            cw[i] = w[k] * (center[i] + radius * (xy[k][0] * xdir[i] + xy[k][1] * ydir[i]));
+        cw[3] = w[k];
+    }
+    cb_nurbs_curve_swap(c, t);
+    cb_nurbs_curve_clear(t);
+    return CB_OK;
+}
+
+/* The plane patch: bilinear, and the B-spline parameter equals (u, v) everywhere. */
+static cb_status plane_to_nurbs(cb_nurbs_surface_t out, const cb_analytic_surface *s, double u0,
+                                double u1, double v0, double v1, cb_error *err)
+{
+    cb_nurbs_surface_t t;
+    cb_nurbs_surface_init(t);
+    cb_status st = cb_nurbs_surface_alloc(t, 1, 1, 2, 2, err);
+    if (st)
+        return st;
+    double us[2] = {u0, u1}, vs[2] = {v0, v1};
+    for (int k = 0; k < 2; k++) {
+        t->knots_u[2 * k] = t->knots_u[2 * k + 1] = us[k];
+        t->knots_v[2 * k] = t->knots_v[2 * k + 1] = vs[k];
+    }
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 2; j++) {
+            double *cw = cb_nurbs_surface_cw(t, i, j);
+            cb_analytic_eval(cw, s, us[i], vs[j]);
+            cw[3] = 1.0;
+        }
+    cb_nurbs_surface_swap(out, t);
+    cb_nurbs_surface_clear(t);
+    return CB_OK;
+}
+
+/* Rejects the ranges the kind cannot take (beyond the finite, non-empty check). */
+static cb_status check_kind_ranges(const cb_analytic_surface *s, double u0, double u1, double v0,
+                                   double v1, cb_error *err)
+{
+    const char *name = cb_analytic_kind_name(s->kind);
+    cb_status st = check_angle_range(u0, u1, "u", err);
+    if (st)
+        return cb_error_prefix(err, "%s: ", name);
+    switch (s->kind) {
+    case CB_ANALYTIC_SPHERE:
+    case CB_ANALYTIC_ELLIPSOID:
+        if (v0 < -0.5 * pi || v1 > 0.5 * pi)
+            return cb_error_set(err, CB_ERR_INVALID,
+                                "%s: v range [%.17g, %.17g] leaves [-pi/2, pi/2]", name, v0, v1);
+        return CB_OK;
+    case CB_ANALYTIC_TORUS:
+        if ((st = check_angle_range(v0, v1, "v", err)))
+            return cb_error_prefix(err, "%s: ", name);
+        return CB_OK;
+    case CB_ANALYTIC_CONE: {
+        double apex = -s->r1 / tan(s->angle);
+        if (v0 < apex && apex < v1)
+            return cb_error_set(err, CB_ERR_INVALID,
+                                "cone: v range [%.17g, %.17g] crosses the apex at v = %.17g", v0,
+                                v1, apex);
+        return CB_OK;
+    }
+    default: return CB_OK;
+    }
+}
+
+cb_status cb_analytic_to_nurbs(cb_nurbs_surface_t out, const cb_analytic_surface *s, double u0,
+                               double u1, double v0, double v1, cb_error *err)
+{
+    cb_status st = check_range(u0, u1, "u", err);
+    if (!st)
+        st = check_range(v0, v1, "v", err);
+    if (st)
+        return cb_error_prefix(err, "%s: ", cb_analytic_kind_name(s->kind));
+    if (s->kind == CB_ANALYTIC_PLANE)
+        return plane_to_nurbs(out, s, u0, u1, v0, v1, err);
+    if ((st = check_kind_ranges(s, u0, u1, v0, v1, err)))
+        return st;
+
+    /* Parallel: the unit arc in u, scaled by (sx, sy). Profile: control points (rho_j, h_j)
+     * with weights wv_j of the meridian, an affine image of the unit arc in v or a line. */
+    double cu[ARC_MAX_POINTS][2], wu[ARC_MAX_POINTS], ku[ARC_MAX_POINTS + 3];
+    double cv[ARC_MAX_POINTS][2], wv[ARC_MAX_POINTS], kv[ARC_MAX_POINTS + 3];
+    double rho[ARC_MAX_POINTS], h[ARC_MAX_POINTS], sx = 1.0, sy = 1.0;
+    int nu = 2 * unit_arc(cu, wu, ku, u0, u1) + 1, nv, deg_v;
+    if (s->kind == CB_ANALYTIC_CYLINDER || s->kind == CB_ANALYTIC_CONE) {
+        /* The radius r + v tan a is linear in v, so a degree-1 profile reproduces it. */
+        double ta = s->kind == CB_ANALYTIC_CONE ? tan(s->angle) : 0.0;
+        deg_v = 1;
+        nv = 2;
+        kv[0] = kv[1] = v0;
+        kv[2] = kv[3] = v1;
+        rho[0] = s->r1 + v0 * ta;
+        rho[1] = s->r1 + v1 * ta;
+        h[0] = v0;
+        h[1] = v1;
+        wv[0] = wv[1] = 1.0;
+    } else {
+        /* rho = A + B cos v, h = C sin v, as in the local parameterisations of analytic.h. */
+        double A = 0.0, B = s->r1, C = s->r1;
+        if (s->kind == CB_ANALYTIC_TORUS) {
+            A = s->r1;
+            B = C = s->r2;
+        } else if (s->kind == CB_ANALYTIC_ELLIPSOID) {
+            B = 1.0;
+            C = s->r3;
+            sx = s->r1;
+            sy = s->r2;
+        }
+        deg_v = 2;
+        nv = 2 * unit_arc(cv, wv, kv, v0, v1) + 1;
+        for (int j = 0; j < nv; j++) {
+            rho[j] = A + B * cv[j][0];
+            h[j] = C * cv[j][1];
+        }
+    }
+    cb_nurbs_surface_t t;
+    cb_nurbs_surface_init(t);
+    if ((st = cb_nurbs_surface_alloc(t, 2, deg_v, nu, nv, err)))
+        return st;
+    memcpy(t->knots_u, ku, (size_t)(nu + 3) * sizeof *ku);
+    memcpy(t->knots_v, kv, (size_t)(nv + deg_v + 1) * sizeof *kv);
+    /* Weights multiply, so the homogeneous surface factors into the two rational curves and the
+     * image is exactly (sx rho cos, sy rho sin, h) of their points. */
+    for (int i = 0; i < nu; i++)
+        for (int j = 0; j < nv; j++) {
+            double l[3] = {sx * rho[j] * cu[i][0], sy * rho[j] * cu[i][1], h[j]};
+            double *cw = cb_nurbs_surface_cw(t, i, j), w = wu[i] * wv[j];
+            cb_frame_to_world(cw, &s->frame, l);
+            for (int k = 0; k < 3; k++)
+                cw[k] *= w;
+            cw[3] = w;
+        }
+    cb_nurbs_surface_swap(out, t);
+    cb_nurbs_surface_clear(t);
+    return CB_OK;
+}
