@@ -97,6 +97,10 @@ static void test_bad_files(void)
     snprintf(buf, sizeof buf, "%s1 1 0\n\n1 1\n", ONE_PATCH_HEAD);
     expect_bad("extra patch", buf, CB_ERR_PARSE,
                (const char *const[]){":8:", "text after the last of 1 patches", NULL});
+    expect_bad("count beyond the file", "900000\n1 1\n", CB_ERR_PARSE,
+               (const char *const[]){":1:", "900000 patches announced", NULL});
+    expect_bad("NUL byte", "1\n1 1\n0 0 0\n0 1 0\n1 0 0\n1 1 \0 0\n", CB_ERR_PARSE,
+               (const char *const[]){":6:", "patch 0 point 3", NULL});
     expect_bad("short point", "1\n1 1\n0 0\n", CB_ERR_PARSE,
                (const char *const[]){":3:", "expected 3 numbers, found 2", NULL});
 
