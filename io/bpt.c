@@ -81,7 +81,8 @@ static cb_status parse_int(line_reader *r, int *out, int count, int lo, int hi, 
     if (st)
         return st;
     for (int k = 0; k < count; k++) {
-        if (v[k] != (double)(long)v[k] || v[k] < lo || v[k] > hi)
+        /* Range first: converting an out-of-range double to an integer is undefined. */
+        if (!(v[k] >= lo && v[k] <= hi) || v[k] != (double)(int)v[k])
             return cb_error_set(err, CB_ERR_PARSE, "%s:%d: %s: %g is not an integer in [%d, %d]",
                                 r->path, r->line, r->what, v[k], lo, hi);
         out[k] = (int)v[k];

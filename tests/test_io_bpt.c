@@ -82,6 +82,8 @@ static void test_bad_files(void)
                (const char *const[]){":1:", "not an integer in [1", NULL});
     expect_bad("fractional degree", "1\n1.5 1\n", CB_ERR_PARSE,
                (const char *const[]){":2:", "patch 0 degrees", NULL});
+    expect_bad("huge degree (found by fuzzing)", "1\n1 1888888888888888888888888888888\n",
+               CB_ERR_PARSE, (const char *const[]){":2:", "patch 0 degrees", NULL});
     expect_bad("degree 0", "1\n0 3\n", CB_ERR_PARSE,
                (const char *const[]){":2:", "patch 0 degrees", NULL});
     expect_bad("truncated", "1\n1 1\n0 0 0\n0 1 0\n", CB_ERR_PARSE,
