@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include "check.h"
 
@@ -49,5 +50,36 @@ int main(void)
     /* A .bpt path that cannot be opened says so. */
     snprintf(args, sizeof args, "info /dev/null/x.bpt");
     expect(args, 1, "x.bpt: cannot open");
+    /* STEP models: text and JSON summaries, rejected files, bad options. */
+    const char *sh = shared ? shared : "../shared";
+    snprintf(args, sizeof args, "info '%s/models/ujoint_cross.step'", sh);
+    expect(args, 0, "1 solid, 1 shell, 8 faces, 14 edges, 8 vertices");
+    expect(args, 0, "validation (tolerance 1e-07): valid");
+    snprintf(args, sizeof args, "info --json '%s/models/ujoint_fork.step'", sh);
+    expect(args, 0, "\"solids\": 1, \"shells\": 1, \"faces\": 17, \"edges\": 54");
+    expect(args, 0, "\"surface_types\": {\"cylinder\": 7, \"plane\": 7, \"sphere\": 3}");
+    expect(args, 0, "\"valid\": true, \"problems\": []");
+    snprintf(args, sizeof args, "info '%s/models/trj5_k1-al-214.stp' --json", sh);
+    expect(args, 0, "\"surface_types\": {\"bspline\": 39}");
+    expect(args, 0, "\"unit_mm\": 10,");
+    /* linkrods' edges stray 4.1e-4 from their surfaces: invalid at its own 2e-5, valid at 5e-4. */
+    snprintf(args, sizeof args, "info '%s/models/linkrods.step' --json", sh);
+    expect(args, 0, "\"valid\": false");
+    snprintf(args, sizeof args, "info '%s/models/linkrods.step' --tol 5e-4", sh);
+    expect(args, 0, "validation (tolerance 0.0005): valid");
+    char bad[64], want[160];
+    snprintf(bad, sizeof bad, "/tmp/colibri_cli_bad_%ld.step", (long)getpid());
+    FILE *f = fopen(bad, "w");
+    fputs("ISO-10303-21;\nHEADER;\nENDSEC;\nDATA;\n#1=MANIFOLD_SOLID_BREP('',#2);\n"
+          "#2=CLOSED_SHELL('',(#3));\nENDSEC;\nEND-ISO-10303-21;\n",
+          f);
+    fclose(f);
+    snprintf(args, sizeof args, "info %s", bad);
+    snprintf(want, sizeof want, "%s:6: #2 CLOSED_SHELL: face: #3 is not defined", bad);
+    expect(args, 1, want);
+    remove(bad);
+    expect("info /nonexistent/x.step --json", 1, "x.step: cannot open");
+    expect("info x.step --tol abc", 2, "--tol needs a positive number");
+    expect("info x.step --bogus", 2, "usage: colibri info");
     return check_report("cli");
 }

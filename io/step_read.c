@@ -1,0 +1,92 @@
+/* Entry points of the STEP reader: load the file, parse, map, index. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "io/step_internal.h"
+
+/* Files beyond this are refused rather than parsed: node offsets are ints, and the parsed form
+ * takes several times the file size. */
+static const long MAX_FILE_BYTES = 1L << 30;
+
+static cb_status read_loaded(cb_topo_body **out, step_file *f)
+{
+    cb_status st = step_parse(f);
+    if (!st) {
+        f->state = calloc((size_t)f->n_recs + 1, 1);
+        f->memo = malloc(((size_t)f->n_recs + 1) * sizeof *f->memo);
+        f->memo_kind = calloc((size_t)f->n_recs + 1, 1);
+        f->body = cb_topo_body_new();
+        if (!f->state || !f->memo || !f->memo_kind || !f->body)
+            st = cb_error_set(f->err, CB_ERR_NOMEM, "%s: out of memory", f->path);
+    }
+    if (!st)
+        st = step_map_body(f);
+    if (!st)
+        st = cb_topo_body_index(f->body, f->err);
+    if (st) {
+        cb_topo_body_free(f->body);
+        f->body = NULL;
+    }
+    *out = f->body;
+    step_file_free(f);
+    return st;
+}
+
+cb_status cb_step_read_buffer(cb_topo_body **out, const char *data, size_t len, const char *name,
+                              cb_error *err)
+{
+    cb_error local;
+    step_file f = {.path = name, .err = err ? err : &local};
+    *out = NULL;
+    if (len > (size_t)MAX_FILE_BYTES)
+        return cb_error_set(f.err, CB_ERR_UNSUPPORTED,
+                            "%s: %zu bytes, more than the %ld the "
+                            "reader accepts",
+                            name, len, MAX_FILE_BYTES);
+    if (!(f.buf = malloc(len + 1)))
+        return cb_error_set(f.err, CB_ERR_NOMEM, "%s: no memory for %zu bytes", name, len);
+    memcpy(f.buf, data, len);
+    f.buf[len] = '\0';
+    f.len = len;
+    return read_loaded(out, &f);
+}
+
+cb_status cb_step_read(cb_topo_body **out, const char *path, cb_error *err)
+{
+    cb_error local;
+    step_file f = {.path = path, .err = err ? err : &local};
+    *out = NULL;
+    FILE *in = fopen(path, "rb");
+    if (!in)
+        return cb_error_set(f.err, CB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    long size = -1;
+    if (!fseek(in, 0, SEEK_END))
+        size = ftell(in);
+    if (size < 0 || fseek(in, 0, SEEK_SET)) {
+        fclose(in);
+        return cb_error_set(f.err, CB_ERR_IO, "%s: cannot read (not a regular file?)", path);
+    }
+    if (size > MAX_FILE_BYTES) {
+        fclose(in);
+        return cb_error_set(f.err, CB_ERR_UNSUPPORTED,
+                            "%s: %ld bytes, more than the %ld the "
+                            "reader accepts",
+                            path, size, MAX_FILE_BYTES);
+    }
+    if (!(f.buf = malloc((size_t)size + 1))) {
+        fclose(in);
+        return cb_error_set(f.err, CB_ERR_NOMEM, "%s: no memory for %ld bytes", path, size);
+    }
+    size_t got = fread(f.buf, 1, (size_t)size, in);
+    int bad = ferror(in);
+    fclose(in);
+    if (bad || got != (size_t)size) {
+        free(f.buf);
+        return cb_error_set(f.err, CB_ERR_IO, "%s: read error", path);
+    }
+    f.buf[got] = '\0';
+    f.len = got;
+    return read_loaded(out, &f);
+}

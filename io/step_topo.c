@@ -1,0 +1,520 @@
+/* Topology entities: solids, shells, faces, bounds, loops, oriented edges, edges, vertices,
+ * and the pcurves the edges carry. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "io/step_internal.h"
+
+static cb_status no_memory(step_file *f)
+{
+    return cb_error_set(f->err, CB_ERR_NOMEM, "%s: out of memory", f->path);
+}
+
+/* The arguments of r, which must be an instance of one of the given types (the first is named
+ * in the message), with n parameters. */
+static const step_node *args_of(step_file *f, const step_rec *r, const step_type *types,
+                                int n_types, int n, const char *role)
+{
+    for (int k = 0; k < n_types; k++) {
+        const step_part *p = step_part_of(f, r, types[k]);
+        if (p)
+            return step_args(f, r, p, n);
+    }
+    step_fail(f, r, NULL, CB_ERR_INVALID, "%s expected for the %s", step_type_name(types[0]), role);
+    return NULL;
+}
+
+/* ---------------------------------------------------------------- memoisation ------------- */
+
+/* The body index record k became as `kind`, or -1. */
+static int memo_get(const step_file *f, int k, step_memo_kind kind)
+{
+    return f->memo_kind[k] == kind ? f->memo[k] : -1;
+}
+
+static int memo_set(step_file *f, int k, step_memo_kind kind, int index)
+{
+    f->memo_kind[k] = (unsigned char)kind;
+    return f->memo[k] = index;
+}
+
+/* ---------------------------------------------------------------- vertices and edges ------- */
+
+static cb_status vertex(step_file *f, const step_rec *r, int *out)
+{
+    int k = step_rec_index(f, r);
+    if ((*out = memo_get(f, k, STEP_MEMO_VERTEX)) >= 0)
+        return CB_OK;
+    static const step_type types[] = {STEP_T_VERTEX_POINT};
+    const step_node *a = args_of(f, r, types, 1, 2, "vertex");
+    const step_rec *q;
+    double p[3];
+    cb_status st;
+    if (!a)
+        return f->err->status;
+    if ((st = step_get_ref(f, r, step_next(a), "vertex_geometry", &q)) ||
+        (st = step_point(f, q, 3, p)))
+        return st;
+    int v = cb_topo_body_add_vertex(f->body);
+    if (v < 0)
+        return no_memory(f);
+    memcpy(f->body->vertices[v].p, p, sizeof p);
+    *out = memo_set(f, k, STEP_MEMO_VERTEX, v);
+    return CB_OK;
+}
+
+/* A curve index for geometry record r (shared when several edges use one curve). */
+static cb_status edge_curve_geometry(step_file *f, const step_rec *r, int *out)
+{
+    int k = step_rec_index(f, r);
+    if ((*out = memo_get(f, k, STEP_MEMO_CURVE)) >= 0)
+        return CB_OK;
+    int c = cb_topo_body_add_curve(f->body);
+    if (c < 0)
+        return no_memory(f);
+    cb_status st = step_curve(f, r, 3, &f->body->curves[c]);
+    if (st)
+        return st;
+    *out = memo_set(f, k, STEP_MEMO_CURVE, c);
+    return CB_OK;
+}
+
+/* Parameter range of the edge from its vertices: the curve runs from a to b (the edge's start
+ * and end when same_sense, else swapped). Conics go counterclockwise from a to b (a full turn
+ * for a closed edge); a B-spline's ends snap to the domain ends they coincide with. */
+static void edge_range(cb_topo_edge *e, const cb_topo_curve *c, const double a[3],
+                       const double b[3], double tol)
+{
+    const double two_pi = 6.283185307179586;
+    double lo = 0, hi = 0, ta, tb;
+    if (c->kind == CB_CURVE_NURBS)
+        cb_nurbs_curve_domain(c->nurbs, &lo, &hi);
+    int closed = e->v[0] == e->v[1];
+    cb_topo_curve_project(&ta, c, a, lo, hi);
+    cb_topo_curve_project(&tb, c, b, lo, hi);
+    if (c->kind == CB_CURVE_CIRCLE || c->kind == CB_CURVE_ELLIPSE) {
+        tb = ta + fmod(tb - ta + 2 * two_pi, two_pi);
+        if (closed || tb - ta <= 0)
+            tb = ta + two_pi;
+    } else if (c->kind == CB_CURVE_NURBS) {
+        double pa[3], pb[3];
+        cb_topo_curve_eval(pa, c, lo);
+        cb_topo_curve_eval(pb, c, hi);
+        if (cb_vec3_dist(a, pa) <= tol)
+            ta = lo;
+        if (cb_vec3_dist(b, pb) <= tol)
+            tb = hi;
+        if (closed && ta == tb) {
+            ta = lo;
+            tb = hi;
+        }
+    }
+    e->t0 = ta;
+    e->t1 = tb;
+}
+
+static cb_status edge(step_file *f, const step_rec *r, int *out)
+{
+    int k = step_rec_index(f, r);
+    if ((*out = memo_get(f, k, STEP_MEMO_EDGE)) >= 0)
+        return CB_OK;
+    static const step_type types[] = {STEP_T_EDGE_CURVE};
+    const step_node *a = args_of(f, r, types, 1, 5, "edge");
+    const step_rec *v0, *v1, *g;
+    int iv0, iv1, ic = -1, same;
+    cb_status st;
+    if (!a)
+        return f->err->status;
+    const step_node *x = step_next(a);
+    if ((st = step_get_ref(f, r, x, "edge_start", &v0)) || (st = vertex(f, v0, &iv0)) ||
+        (st = step_get_ref(f, r, step_next(x), "edge_end", &v1)) || (st = vertex(f, v1, &iv1)))
+        return st;
+    x = step_next(step_next(x));
+    if ((st = step_get_ref(f, r, x, "edge_geometry", &g)) || (st = step_enter(f, r)))
+        return st;
+    st = edge_curve_geometry(f, g, &ic);
+    step_leave(f, r);
+    if (st || (st = step_get_bool(f, r, step_next(x), "same_sense", &same)))
+        return st;
+    int e = cb_topo_body_add_edge(f->body);
+    if (e < 0)
+        return no_memory(f);
+    cb_topo_body *b = f->body;
+    cb_topo_edge *ed = &b->edges[e];
+    ed->curve = ic;
+    ed->same_sense = same;
+    ed->v[0] = iv0;
+    ed->v[1] = iv1;
+    ed->tol = f->uncertainty;
+    const double *p0 = b->vertices[iv0].p, *p1 = b->vertices[iv1].p;
+    edge_range(ed, &b->curves[ic], same ? p0 : p1, same ? p1 : p0, 10 * f->uncertainty);
+    *out = memo_set(f, k, STEP_MEMO_EDGE, e);
+    return CB_OK;
+}
+
+/* ---------------------------------------------------------------- pcurves ------------------ */
+
+/* The PCURVEs of the edge's geometry (a SURFACE_CURVE or SEAM_CURVE) that lie on surface
+ * record `surf`: up to two, in the file's order. */
+static int pcurves_on(const step_file *f, const step_rec *g, long surf, const step_rec *out[2])
+{
+    step_type t = step_rec_type(f, g);
+    if (g->complex ||
+        (t != STEP_T_SURFACE_CURVE && t != STEP_T_SEAM_CURVE && t != STEP_T_INTERSECTION_CURVE))
+        return 0;
+    const step_node *list = &f->nodes[f->parts[g->part0].args];
+    if (list->n != 4)
+        return 0;
+    const step_node *assoc = step_elem(list, 2);
+    if (assoc->kind != STEP_LIST)
+        return 0;
+    int n = 0;
+    const step_node *x = assoc + 1;
+    for (int k = 0; k < assoc->n && n < 2; k++, x = step_next(x)) {
+        const step_rec *q = x->kind == STEP_REF ? step_find(f, x->v.ref) : NULL;
+        if (!q || q->complex || step_rec_type(f, q) != STEP_T_PCURVE)
+            continue;
+        const step_node *pa = &f->nodes[f->parts[q->part0].args];
+        if (pa->n == 3 && step_elem(pa, 1)->kind == STEP_REF && step_elem(pa, 1)->v.ref == surf)
+            out[n++] = q;
+    }
+    return n;
+}
+
+/* PCURVE(name, basis_surface, DEFINITIONAL_REPRESENTATION(name, (curve), context)). */
+static cb_status pcurve(step_file *f, const step_rec *r, int *out)
+{
+    int k = step_rec_index(f, r);
+    if ((*out = memo_get(f, k, STEP_MEMO_PCURVE)) >= 0)
+        return CB_OK;
+    static const step_type pt[] = {STEP_T_PCURVE}, dt[] = {STEP_T_DEFINITIONAL_REPRESENTATION};
+    const step_node *a = args_of(f, r, pt, 1, 3, "pcurve"), *da;
+    const step_rec *d, *c;
+    cb_status st;
+    if (!a)
+        return f->err->status;
+    if ((st = step_get_ref(f, r, step_elem(a - 1, 2), "reference_to_curve", &d)))
+        return st;
+    if (!(da = args_of(f, d, dt, 1, 3, "pcurve")))
+        return f->err->status;
+    if ((st = step_get_list(f, d, step_next(da), "items", 1, 1)) ||
+        (st = step_get_ref(f, d, step_next(da) + 1, "item", &c)))
+        return st;
+    int ip = cb_topo_body_add_pcurve(f->body);
+    if (ip < 0)
+        return no_memory(f);
+    if ((st = step_curve(f, c, 2, &f->body->pcurves[ip])))
+        return st;
+    *out = memo_set(f, k, STEP_MEMO_PCURVE, ip);
+    return CB_OK;
+}
+
+/* 2D point of pcurve p at the start (end = 0) or end of coedge c. */
+static void pcurve_end(double uv[3], const cb_topo_body *b, int p, const cb_topo_coedge *c, int end)
+{
+    const cb_topo_edge *e = &b->edges[c->edge];
+    int at_t1 = (c->sense == e->same_sense) == end;
+    cb_topo_curve_eval(uv, &b->pcurves[p], at_t1 ? e->t1 : e->t0);
+}
+
+/* Attaches pcurves to the coedges of face fi (whose surface is record surf). A seam edge has
+ * two pcurves on the face and two coedges; each coedge takes the one whose start meets the end
+ * of the previous coedge's pcurve in the (u, v) plane. */
+static cb_status attach_pcurves(step_file *f, int fi, long surf, const int *geom)
+{
+    cb_topo_body *b = f->body;
+    const cb_topo_face *face = &b->faces[fi];
+    for (int pass = 0; pass < 2; pass++)
+        for (int l = face->first; l < face->first + face->count; l++) {
+            const cb_topo_loop *lp = &b->loops[l];
+            for (int k = 0; k < lp->count; k++) {
+                int ci = lp->first + k;
+                const step_rec *pc[2];
+                int n = pcurves_on(f, &f->recs[geom[ci - b->loops[face->first].first]], surf, pc);
+                if (!n || (n == 1) != (pass == 0))
+                    continue;
+                int ip[2] = {-1, -1};
+                for (int j = 0; j < n; j++) {
+                    cb_status st = pcurve(f, pc[j], &ip[j]);
+                    if (st)
+                        return st;
+                }
+                cb_topo_coedge *c = &b->coedges[ci];
+                if (n == 1) {
+                    c->pcurve = ip[0];
+                    continue;
+                }
+                const cb_topo_coedge *prev =
+                    &b->coedges[lp->first + (k + lp->count - 1) % lp->count];
+                int choice = 0;
+                if (prev->pcurve >= 0) {
+                    double end[3], s0[3], s1[3];
+                    pcurve_end(end, b, prev->pcurve, prev, 1);
+                    pcurve_end(s0, b, ip[0], c, 0);
+                    pcurve_end(s1, b, ip[1], c, 0);
+                    choice = cb_vec3_dist(end, s1) < cb_vec3_dist(end, s0);
+                } else {
+                    /* No neighbour to go by: the two uses take the two pcurves in turn. */
+                    for (int j = face->first; j <= l; j++)
+                        for (int m = b->loops[j].first;
+                             m < ci && m < b->loops[j].first + b->loops[j].count; m++)
+                            choice ^= b->coedges[m].edge == c->edge;
+                }
+                c->pcurve = ip[choice];
+            }
+        }
+    return CB_OK;
+}
+
+/* ---------------------------------------------------------------- faces and shells --------- */
+
+/* One bound of face fi: its loop's coedges, in traversal order (reversed when the bound's
+ * orientation, combined with the shell's, is .F.). geom[k] receives the edge geometry record
+ * index of the k-th coedge of the face. */
+static cb_status bound(step_file *f, const step_rec *r, int fi, int flip, int **geom, int *n_geom,
+                       int *cap_geom)
+{
+    static const step_type bt[] = {STEP_T_FACE_BOUND, STEP_T_FACE_OUTER_BOUND},
+                           lt[] = {STEP_T_EDGE_LOOP}, ot[] = {STEP_T_ORIENTED_EDGE};
+    const step_node *a = args_of(f, r, bt, 2, 3, "face bound"), *la;
+    const step_rec *loop;
+    int orient;
+    cb_status st;
+    if (!a)
+        return f->err->status;
+    if ((st = step_get_ref(f, r, step_next(a), "bound", &loop)) ||
+        (st = step_get_bool(f, r, step_next(step_next(a)), "orientation", &orient)))
+        return st;
+    if (step_rec_is(f, loop, STEP_T_VERTEX_LOOP))
+        return CB_OK;
+    if (!(la = args_of(f, loop, lt, 1, 2, "bound")))
+        return f->err->status;
+    const step_node *list = step_next(la);
+    if ((st = step_get_list(f, loop, list, "edge_list", 1, 1 << 24)))
+        return st;
+    int l = cb_topo_body_add_loop(f->body);
+    if (l < 0)
+        return no_memory(f);
+    int reversed = !orient ^ flip, n = list->n;
+    cb_topo_loop *lp = &f->body->loops[l];
+    lp->first = f->body->n_coedges;
+    lp->count = n;
+    lp->face = fi;
+    lp->outer = step_rec_is(f, r, STEP_T_FACE_OUTER_BOUND);
+    if (*n_geom + n > *cap_geom) {
+        int c = 2 * (*n_geom + n);
+        int *g = realloc(*geom, (size_t)c * sizeof *g);
+        if (!g)
+            return no_memory(f);
+        *geom = g;
+        *cap_geom = c;
+    }
+    for (int k = 0; k < n; k++) {
+        const step_rec *oe, *ec;
+        const step_node *oa;
+        int ie = -1, o;
+        if ((st = step_get_ref(f, loop, step_elem(list, reversed ? n - 1 - k : k), "oriented edge",
+                               &oe)))
+            return st;
+        if (!(oa = args_of(f, oe, ot, 1, 5, "loop")))
+            return f->err->status;
+        const step_node *x = step_elem(oa - 1, 3);
+        if ((st = step_get_ref(f, oe, x, "edge_element", &ec)) ||
+            (st = step_get_bool(f, oe, step_next(x), "orientation", &o)) || (st = edge(f, ec, &ie)))
+            return st;
+        int c = cb_topo_body_add_coedge(f->body);
+        if (c < 0)
+            return no_memory(f);
+        cb_topo_coedge *co = &f->body->coedges[c];
+        co->edge = ie;
+        co->sense = o ^ reversed;
+        co->pcurve = -1;
+        co->loop = l;
+        /* The edge's geometry record, for the pcurve lookup. */
+        const step_node *ea = &f->nodes[step_part_of(f, ec, STEP_T_EDGE_CURVE)->args];
+        (*geom)[(*n_geom)++] = step_rec_index(f, step_find(f, step_elem(ea, 3)->v.ref));
+    }
+    return CB_OK;
+}
+
+static cb_status face(step_file *f, const step_rec *r, int shell, int flip)
+{
+    static const step_type ft[] = {STEP_T_ADVANCED_FACE, STEP_T_FACE_SURFACE};
+    const step_node *a = args_of(f, r, ft, 2, 4, "face");
+    const step_rec *sr;
+    int same;
+    cb_status st;
+    if (!a)
+        return f->err->status;
+    const step_node *bounds = step_next(a), *x = step_next(bounds);
+    if ((st = step_get_list(f, r, bounds, "bounds", 1, 1 << 20)) ||
+        (st = step_get_ref(f, r, x, "face_geometry", &sr)) ||
+        (st = step_get_bool(f, r, step_next(x), "same_sense", &same)))
+        return st;
+    int fi = cb_topo_body_add_face(f->body), k = step_rec_index(f, sr);
+    if (fi < 0)
+        return no_memory(f);
+    int si = memo_get(f, k, STEP_MEMO_SURFACE);
+    if (si < 0) {
+        if ((si = cb_topo_body_add_surface(f->body)) < 0)
+            return no_memory(f);
+        if ((st = step_surface(f, sr, &f->body->surfaces[si])))
+            return st;
+        memo_set(f, k, STEP_MEMO_SURFACE, si);
+    }
+    cb_topo_face *fc = &f->body->faces[fi];
+    fc->surface = si;
+    fc->same_sense = same ^ flip;
+    fc->shell = shell;
+    fc->first = f->body->n_loops;
+    int *geom = NULL, n_geom = 0, cap_geom = 0;
+    const step_node *y = bounds + 1;
+    for (int j = 0; j < bounds->n && !st; j++, y = step_next(y)) {
+        const step_rec *br;
+        if (!(st = step_get_ref(f, r, y, "bound", &br)))
+            st = bound(f, br, fi, flip, &geom, &n_geom, &cap_geom);
+    }
+    f->body->faces[fi].count = f->body->n_loops - f->body->faces[fi].first;
+    if (!st)
+        st = attach_pcurves(f, fi, sr->id, geom);
+    free(geom);
+    return st;
+}
+
+/* A shell of faces; flip reverses every face (an ORIENTED_CLOSED_SHELL with .F.). */
+static cb_status shell(step_file *f, const step_rec *r, int solid, int flip)
+{
+    static const step_type ot[] = {STEP_T_ORIENTED_CLOSED_SHELL},
+                           st_[] = {STEP_T_CLOSED_SHELL, STEP_T_OPEN_SHELL};
+    cb_status st;
+    if (step_rec_is(f, r, STEP_T_ORIENTED_CLOSED_SHELL)) {
+        const step_node *a = args_of(f, r, ot, 1, 4, "shell");
+        const step_rec *inner;
+        int o;
+        if (!a)
+            return f->err->status;
+        const step_node *x = step_elem(a - 1, 2);
+        if ((st = step_get_ref(f, r, x, "closed_shell_element", &inner)) ||
+            (st = step_get_bool(f, r, step_next(x), "orientation", &o)) || (st = step_enter(f, r)))
+            return st;
+        st = shell(f, inner, solid, flip ^ !o);
+        step_leave(f, r);
+        return st;
+    }
+    const step_node *a = args_of(f, r, st_, 2, 2, "shell");
+    if (!a)
+        return f->err->status;
+    const step_node *list = step_next(a);
+    if ((st = step_get_list(f, r, list, "faces", 1, 1 << 24)))
+        return st;
+    int s = cb_topo_body_add_shell(f->body);
+    if (s < 0)
+        return no_memory(f);
+    f->body->shells[s].first = f->body->n_faces;
+    f->body->shells[s].count = list->n;
+    f->body->shells[s].closed = step_rec_is(f, r, STEP_T_CLOSED_SHELL);
+    f->body->shells[s].solid = solid;
+    const step_node *x = list + 1;
+    for (int k = 0; k < list->n; k++, x = step_next(x)) {
+        const step_rec *fr;
+        if ((st = step_get_ref(f, r, x, "face", &fr)) || (st = face(f, fr, s, flip)))
+            return st;
+    }
+    return CB_OK;
+}
+
+/* A solid or surface model. */
+static cb_status item(step_file *f, const step_rec *r)
+{
+    step_type t = step_rec_type(f, r);
+    cb_status st;
+    if (t == STEP_T_SHELL_BASED_SURFACE_MODEL) {
+        const step_node *a = step_args(f, r, &f->parts[r->part0], 2);
+        if (!a)
+            return f->err->status;
+        const step_node *list = step_next(a);
+        if ((st = step_get_list(f, r, list, "sbsm_boundary", 1, 1 << 20)))
+            return st;
+        const step_node *x = list + 1;
+        for (int k = 0; k < list->n; k++, x = step_next(x)) {
+            const step_rec *sr;
+            if ((st = step_get_ref(f, r, x, "shell", &sr)) || (st = shell(f, sr, -1, 0)))
+                return st;
+        }
+        return CB_OK;
+    }
+    int voids = t == STEP_T_BREP_WITH_VOIDS;
+    const step_node *a = step_args(f, r, &f->parts[r->part0], voids ? 3 : 2);
+    const step_rec *outer;
+    if (!a)
+        return f->err->status;
+    int s = cb_topo_body_add_solid(f->body);
+    if (s < 0)
+        return no_memory(f);
+    f->body->solids[s].first = f->body->n_shells;
+    if ((st = step_get_ref(f, r, step_next(a), "outer", &outer)) || (st = shell(f, outer, s, 0)))
+        return st;
+    if (voids) {
+        const step_node *list = step_next(step_next(a)), *x = list + 1;
+        if ((st = step_get_list(f, r, list, "voids", 1, 1 << 20)))
+            return st;
+        for (int k = 0; k < list->n; k++, x = step_next(x)) {
+            const step_rec *vr;
+            if ((st = step_get_ref(f, r, x, "void", &vr)) || (st = shell(f, vr, s, 0)))
+                return st;
+        }
+    }
+    f->body->solids[s].count = f->body->n_shells - f->body->solids[s].first;
+    return CB_OK;
+}
+
+/* Moves everything item() added from the counts in `from` on. */
+static void place(cb_topo_body *b, const int from[3], const cb_xform *x)
+{
+    for (int k = from[0]; k < b->n_vertices; k++)
+        cb_xform_apply_point(b->vertices[k].p, x, b->vertices[k].p);
+    for (int k = from[1]; k < b->n_curves; k++)
+        cb_topo_curve_transform(&b->curves[k], x);
+    for (int k = from[2]; k < b->n_surfaces; k++)
+        cb_topo_surface_transform(&b->surfaces[k], x);
+}
+
+cb_status step_map_body(step_file *f)
+{
+    int found = 0;
+    cb_topo_body *b = f->body;
+    for (int k = 0; k < f->n_recs; k++) {
+        const step_rec *r = &f->recs[k];
+        step_type t = step_rec_type(f, r);
+        if (r->complex || (t != STEP_T_MANIFOLD_SOLID_BREP && t != STEP_T_BREP_WITH_VOIDS &&
+                           t != STEP_T_SHELL_BASED_SURFACE_MODEL))
+            continue;
+        cb_xform x;
+        cb_status st = step_units_for(f, r);
+        if (!st)
+            st = step_placement_for(f, r, &x);
+        if (st)
+            return st;
+        if (found && f->length_mm != b->length_unit_mm)
+            return step_fail(f, r, NULL, CB_ERR_UNSUPPORTED,
+                             "length unit of %g mm differs from the %g mm of the first solid",
+                             f->length_mm, b->length_unit_mm);
+        b->length_unit_mm = f->length_mm;
+        b->tol = fmax(b->tol, f->uncertainty);
+        /* Each solid gets its own copies, so that a placement moves only its geometry. */
+        memset(f->state, STEP_FRESH, (size_t)f->n_recs);
+        memset(f->memo_kind, 0, (size_t)f->n_recs);
+        int from[3] = {b->n_vertices, b->n_curves, b->n_surfaces};
+        if ((st = item(f, r)))
+            return st;
+        place(b, from, &x);
+        found++;
+    }
+    if (!found)
+        return cb_error_set(f->err, CB_ERR_INVALID,
+                            "%s: no MANIFOLD_SOLID_BREP, BREP_WITH_VOIDS or "
+                            "SHELL_BASED_SURFACE_MODEL in the file",
+                            f->path);
+    return CB_OK;
+}

@@ -1,0 +1,329 @@
+/* Topology and its geometry (brep/topo*.c): evaluation identities, nearest points, a body built
+ * by hand, the queries, and the validator finding each kind of defect. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "brep/topo.h"
+#include "check.h"
+
+static const double PI = 3.14159265358979323846;
+
+static void random_frame(cb_frame *f, check_rng *rng)
+{
+    double o[3], z[3], x[3];
+    for (int k = 0; k < 3; k++) {
+        o[k] = check_rng_uniform(rng, -5, 5);
+        z[k] = check_rng_uniform(rng, -1, 1);
+        x[k] = check_rng_uniform(rng, -1, 1);
+    }
+    if (cb_frame_make(f, o, z, x, NULL)) {
+        double zz[3] = {0, 0, 1};
+        cb_frame_make(f, o, zz, NULL, NULL);
+    }
+}
+
+/* Unit normal of s at (u, v). */
+static void normal_at(double n[3], double p[3], const cb_topo_surface *s, double u, double v)
+{
+    double d[6][3];
+    cb_topo_surface_eval_derivs(d, s, u, v);
+    cb_vec3_cross(n, d[1], d[2]);
+    cb_vec3_normalize(n);
+    memcpy(p, d[0], sizeof d[0]);
+}
+
+/* Derivatives of every surface kind against central differences. */
+static void check_derivs(const cb_topo_surface *s, const char *what, double u, double v)
+{
+    double d[6][3], a[6][3], b[6][3], h = 1e-5;
+    cb_topo_surface_eval_derivs(d, s, u, v);
+    cb_topo_surface_eval_derivs(a, s, u + h, v);
+    cb_topo_surface_eval_derivs(b, s, u - h, v);
+    double err = 0;
+    for (int i = 0; i < 3; i++) {
+        err = fmax(err, fabs((a[0][i] - b[0][i]) / (2 * h) - d[1][i]));
+        err = fmax(err, fabs((a[1][i] - b[1][i]) / (2 * h) - d[3][i]));
+        err = fmax(err, fabs((a[2][i] - b[2][i]) / (2 * h) - d[4][i]));
+    }
+    cb_topo_surface_eval_derivs(a, s, u, v + h);
+    cb_topo_surface_eval_derivs(b, s, u, v - h);
+    for (int i = 0; i < 3; i++) {
+        err = fmax(err, fabs((a[0][i] - b[0][i]) / (2 * h) - d[2][i]));
+        err = fmax(err, fabs((a[2][i] - b[2][i]) / (2 * h) - d[5][i]));
+    }
+    CHECK(err < 1e-5, "%s: derivatives off by %g at (%g, %g)", what, err, u, v);
+}
+
+/* Points moved a known distance along the normal must measure that distance (for offsets
+ * below the smallest radius of curvature). */
+static void check_distance(const cb_topo_surface *s, const char *what, double u0, double u1,
+                           double v0, double v1, double max_off, check_rng *rng)
+{
+    cb_topo_projector pr;
+    cb_error err;
+    CHECK(cb_topo_projector_init(&pr, s, &err) == CB_OK, "%s: %s", what, err.msg);
+    double worst = 0;
+    for (int trial = 0; trial < 100; trial++) {
+        double u = check_rng_uniform(rng, u0, u1), v = check_rng_uniform(rng, v0, v1);
+        double off = check_rng_uniform(rng, -max_off, max_off), n[3], p[3];
+        normal_at(n, p, s, u, v);
+        for (int i = 0; i < 3; i++)
+            p[i] += off * n[i];
+        double d = cb_topo_projector_distance(&pr, p);
+        worst = fmax(worst, fabs(d - fabs(off)));
+        check_derivs(s, what, u, v);
+    }
+    CHECK(worst < 1e-9, "%s: distance off by %g", what, worst);
+    cb_topo_projector_clear(&pr);
+}
+
+static void test_surfaces(void)
+{
+    check_rng rng = {7};
+    cb_error err;
+    for (int trial = 0; trial < 5; trial++) {
+        cb_frame f;
+        random_frame(&f, &rng);
+        cb_topo_surface s;
+        cb_topo_surface_init(&s);
+        s.kind = CB_SURFACE_ANALYTIC;
+        cb_analytic_plane(&s.analytic, &f, &err);
+        check_distance(&s, "plane", -3, 3, -3, 3, 1.0, &rng);
+        cb_analytic_cylinder(&s.analytic, &f, 2.0, &err);
+        check_distance(&s, "cylinder", 0, 2 * PI, -3, 3, 1.0, &rng);
+        cb_analytic_cone(&s.analytic, &f, 1.0, 0.4, &err);
+        check_distance(&s, "cone", 0, 2 * PI, 0, 3, 0.3, &rng);
+        cb_analytic_sphere(&s.analytic, &f, 2.0, &err);
+        check_distance(&s, "sphere", 0, 2 * PI, -1.4, 1.4, 1.0, &rng);
+        cb_analytic_torus(&s.analytic, &f, 3.0, 1.0, &err);
+        check_distance(&s, "torus", 0, 2 * PI, 0, 2 * PI, 0.5, &rng);
+
+        /* The same sphere as an exact rational B-spline, and as a circle revolved. */
+        cb_analytic_sphere(&s.analytic, &f, 2.0, &err);
+        cb_topo_surface n;
+        cb_topo_surface_init(&n);
+        n.kind = CB_SURFACE_NURBS;
+        CHECK(cb_analytic_to_nurbs(n.nurbs, &s.analytic, 0, 2 * PI, -1.3, 1.3, &err) == CB_OK, "%s",
+              err.msg);
+        double box[4];
+        cb_nurbs_surface_domain(n.nurbs, box);
+        check_distance(&n, "nurbs sphere", box[0], box[1], box[2], box[3], 0.5, &rng);
+        cb_topo_surface_clear(&n);
+
+        cb_topo_surface r;
+        cb_topo_surface_init(&r);
+        r.kind = CB_SURFACE_REVOLUTION;
+        r.frame = f;
+        r.profile.kind = CB_CURVE_CIRCLE;
+        r.profile.r1 = r.profile.r2 = 1.0;
+        /* Profile: the unit circle about o + 3 x' in the x'z' plane, so a torus (3, 1). */
+        double c[3] = {3, 0, 0}, minus_y[3] = {-f.y[0], -f.y[1], -f.y[2]};
+        cb_frame_to_world(c, &f, c);
+        cb_frame_make(&r.profile.frame, c, minus_y, f.x, &err);
+        check_distance(&r, "revolution", 0, 2 * PI, 0, 2 * PI, 0.5, &rng);
+        cb_topo_surface_clear(&r);
+
+        cb_topo_surface e;
+        cb_topo_surface_init(&e);
+        e.kind = CB_SURFACE_EXTRUSION;
+        e.profile.kind = CB_CURVE_ELLIPSE;
+        e.profile.frame = f;
+        e.profile.r1 = 2.0;
+        e.profile.r2 = 1.0;
+        for (int k = 0; k < 3; k++)
+            e.dir[k] = 1.5 * f.z[k];
+        check_distance(&e, "extrusion", 0, 2 * PI, -2, 2, 0.3, &rng);
+        cb_topo_surface_clear(&e);
+        cb_topo_surface_clear(&s);
+    }
+}
+
+static void test_curves(void)
+{
+    check_rng rng = {11};
+    cb_error err;
+    for (int trial = 0; trial < 50; trial++) {
+        cb_topo_curve c;
+        cb_topo_curve_init(&c);
+        random_frame(&c.frame, &rng);
+        int kind = trial % 4;
+        c.kind = (cb_curve_kind)kind;
+        c.r1 = check_rng_uniform(&rng, 0.5, 3);
+        c.r2 = kind == CB_CURVE_ELLIPSE ? check_rng_uniform(&rng, 0.5, 3) : c.r1;
+        double a = 0, b = 2 * PI;
+        if (kind == CB_CURVE_NURBS) {
+            double z[3] = {c.frame.z[0], c.frame.z[1], c.frame.z[2]};
+            CHECK(cb_nurbs_curve_arc(c.nurbs, c.frame.o, c.frame.x, z, c.r1, 0.2, 2.5, &err) ==
+                      CB_OK,
+                  "%s", err.msg);
+            a = 0.2;
+            b = 2.5;
+        }
+        double t = check_rng_uniform(&rng, a + 0.1, b - 0.1), d[3][3], e1[3][3], e2[3][3], h = 1e-6;
+        cb_topo_curve_eval_derivs(d, &c, t);
+        cb_topo_curve_eval_derivs(e1, &c, t + h);
+        cb_topo_curve_eval_derivs(e2, &c, t - h);
+        double worst = 0;
+        for (int i = 0; i < 3; i++) {
+            worst = fmax(worst, fabs((e1[0][i] - e2[0][i]) / (2 * h) - d[1][i]));
+            worst = fmax(worst, fabs((e1[1][i] - e2[1][i]) / (2 * h) - d[2][i]));
+        }
+        CHECK(worst < 1e-6, "%s: derivatives off by %g", cb_curve_kind_name(c.kind), worst);
+        /* Projecting a curve point gives back its parameter (modulo the period). */
+        double tp, dist = cb_topo_curve_project(&tp, &c, d[0], a, b);
+        double dt = fabs(tp - t);
+        if (kind == CB_CURVE_CIRCLE || kind == CB_CURVE_ELLIPSE)
+            dt = fmin(dt, fabs(dt - 2 * PI));
+        CHECK(dist < 1e-12 && dt < 1e-7, "%s: projection t %g -> %g, distance %g",
+              cb_curve_kind_name(c.kind), t, tp, dist);
+        /* Rigid motions commute with evaluation. */
+        cb_xform x;
+        double axis[3] = {1, 2, 3}, pt[3] = {0.5, -1, 2}, q[3], r[3];
+        cb_xform_rotation(&x, pt, axis, 0.7);
+        cb_xform_apply_point(q, &x, d[0]);
+        cb_topo_curve_transform(&c, &x);
+        cb_topo_curve_eval(r, &c, t);
+        CHECK(cb_vec3_dist(q, r) < 1e-12, "%s: transform", cb_curve_kind_name(c.kind));
+        cb_topo_curve_clear(&c);
+    }
+}
+
+/* ---------------------------------------------------------------- a body by hand ----------- */
+
+/* A tetrahedron with planar faces and line edges: 4 vertices, 6 edges, and its first n_faces
+ * faces (4 for the closed solid). */
+static cb_topo_body *tetrahedron(int n_faces)
+{
+    static const double P[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    /* Faces as vertex cycles, counterclockwise seen from outside. */
+    static const int F[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    cb_topo_body *b = cb_topo_body_new();
+    cb_error err;
+    for (int k = 0; k < 4; k++) {
+        int v = cb_topo_body_add_vertex(b);
+        memcpy(b->vertices[v].p, P[k], sizeof P[k]);
+    }
+    int edge[4][4];
+    for (int i = 0; i < 4; i++)
+        for (int j = i + 1; j < 4; j++) {
+            int e = cb_topo_body_add_edge(b), c = cb_topo_body_add_curve(b);
+            double d[3] = {P[j][0] - P[i][0], P[j][1] - P[i][1], P[j][2] - P[i][2]};
+            cb_topo_curve *cv = &b->curves[c];
+            cv->kind = CB_CURVE_LINE;
+            cv->r1 = cb_vec3_norm(d);
+            cb_frame_make(&cv->frame, P[i], d, NULL, &err);
+            b->edges[e] = (cb_topo_edge){
+                .curve = c, .t0 = 0, .t1 = 1, .same_sense = 1, .v = {i, j}, .tol = 1e-9};
+            edge[i][j] = edge[j][i] = e;
+        }
+    int sh = cb_topo_body_add_shell(b), so = cb_topo_body_add_solid(b);
+    b->solids[so] = (cb_topo_solid){.first = sh, .count = 1};
+    b->shells[sh] = (cb_topo_shell){.first = 0, .count = n_faces, .closed = 1, .solid = so};
+    for (int f = 0; f < n_faces; f++) {
+        int fi = cb_topo_body_add_face(b), s = cb_topo_body_add_surface(b),
+            l = cb_topo_body_add_loop(b);
+        const double *a = P[F[f][0]], *p1 = P[F[f][1]], *p2 = P[F[f][2]];
+        double u[3], w[3], n[3];
+        for (int k = 0; k < 3; k++) {
+            u[k] = p1[k] - a[k];
+            w[k] = p2[k] - a[k];
+        }
+        cb_vec3_cross(n, u, w);
+        cb_frame fr;
+        cb_frame_make(&fr, a, n, u, &err);
+        b->surfaces[s].kind = CB_SURFACE_ANALYTIC;
+        cb_analytic_plane(&b->surfaces[s].analytic, &fr, &err);
+        b->faces[fi] =
+            (cb_topo_face){.surface = s, .same_sense = 1, .first = l, .count = 1, .shell = sh};
+        b->loops[l] = (cb_topo_loop){.first = b->n_coedges, .count = 3, .outer = 1, .face = fi};
+        for (int k = 0; k < 3; k++) {
+            int from = F[f][k], to = F[f][(k + 1) % 3], c = cb_topo_body_add_coedge(b);
+            b->coedges[c] = (cb_topo_coedge){
+                .edge = edge[from][to], .sense = from < to, .pcurve = -1, .loop = l};
+        }
+    }
+    b->tol = 1e-9;
+    return b;
+}
+
+/* Validates b and returns 1 when some problem contains `what`. */
+static int reports(cb_topo_body *b, const char *what, int *n_problems)
+{
+    cb_topo_report r;
+    cb_topo_report_init(&r);
+    cb_error err;
+    CHECK(cb_topo_validate(&r, b, 0, 7, &err) == CB_OK, "validate: %s", err.msg);
+    int found = 0;
+    for (int k = 0; k < r.n; k++)
+        found |= what && strstr(r.items[k], what) != NULL;
+    if (n_problems)
+        *n_problems = r.n;
+    cb_topo_report_clear(&r);
+    return found;
+}
+
+static void test_body(void)
+{
+    cb_topo_body *b = tetrahedron(4);
+    cb_error err;
+    int n;
+    CHECK(cb_topo_body_index(b, &err) == CB_OK, "index: %s", err.msg);
+    reports(b, NULL, &n);
+    CHECK(n == 0, "tetrahedron: %d problems", n);
+
+    int out[8];
+    for (int f = 0; f < 4; f++) {
+        CHECK(cb_topo_face_neighbours(out, 8, b, f) == 3, "face %d: not 3 neighbours", f);
+        for (int k = 0; k < 3; k++)
+            CHECK(out[k] != f, "face %d is its own neighbour", f);
+    }
+    for (int v = 0; v < 4; v++)
+        CHECK(cb_topo_vertex_edges(out, 8, b, v) == 3, "vertex %d: not 3 edges", v);
+    for (int e = 0; e < 6; e++) {
+        CHECK(cb_topo_edge_faces(out, 8, b, e) == 2 && out[0] < out[1], "edge %d faces", e);
+        CHECK(cb_topo_edge_faces(out, 0, b, e) == 2, "edge %d: sizing call", e);
+    }
+    const char *names[8];
+    int counts[8];
+    CHECK(cb_topo_body_surface_types(names, counts, b) == 1 && !strcmp(names[0], "plane") &&
+              counts[0] == 4,
+          "surface types");
+
+    /* One defect at a time, each named by the validator. */
+    b->edges[0].t1 = 0.5;
+    CHECK(reports(b, "from vertex", NULL), "short edge not reported");
+    b->edges[0].t1 = 1.0;
+    b->coedges[0].sense ^= 1;
+    CHECK(reports(b, "both coedges run", NULL) && reports(b, "is open", NULL),
+          "reversed coedge not reported");
+    b->coedges[0].sense ^= 1;
+    b->surfaces[0].analytic.frame.o[2] -= 1e-3; /* face 0 is the plane z = 0 */
+    CHECK(reports(b, "off the plane surface of face 0", NULL), "moved plane not reported");
+    b->surfaces[0].analytic.frame.o[2] += 1e-3;
+    b->edges[2].t1 = b->edges[2].t0;
+    CHECK(reports(b, "empty parameter range", NULL), "empty edge not reported");
+    b->edges[2].t1 = 1.0;
+    b->coedges[5].edge = 99;
+    CHECK(reports(b, "out of range", NULL), "bad index not reported");
+    b->coedges[5].edge = 2;
+    reports(b, NULL, &n);
+    CHECK(n == 0, "repaired tetrahedron: %d problems", n);
+    cb_topo_body_free(b);
+
+    /* Three faces: open, which a closed shell must not be. */
+    b = tetrahedron(3);
+    CHECK(reports(b, "used by 1 coedge in closed shell", NULL), "open closed shell not reported");
+    b->shells[0].closed = 0;
+    reports(b, NULL, &n);
+    CHECK(n == 0, "open shell declared open: %d problems", n);
+    cb_topo_body_free(b);
+}
+
+int main(void)
+{
+    test_surfaces();
+    test_curves();
+    test_body();
+    return check_report("brep_topo");
+}
