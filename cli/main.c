@@ -12,7 +12,8 @@ static void usage(FILE *out)
             "Solid Booleans on B-rep models with B-spline faces.\n"
             "\n"
             "commands:\n"
-            "  info FILE     load a model and print what it holds (patches, degrees, bounds)\n"
+            "  info FILE     load a model (.step, .stp, .bpt) and print its counts, surface\n"
+            "                types, bounds and validation (--json for one JSON object)\n"
             "\n"
             "Run 'colibri COMMAND --help' for the options of a command.\n"
             "Exit status: 0 success, 1 the input was rejected or the work failed, 2 bad usage.\n");
