@@ -14,6 +14,8 @@ static void usage(FILE *out)
             "commands:\n"
             "  info FILE     load a model (.step, .stp, .bpt) and print its counts, surface\n"
             "                types, bounds and validation (--json for one JSON object)\n"
+            "  check MESH    check that a mesh (.stl, .obj, .ply, .off) is closed, manifold,\n"
+            "                outward and free of self-intersections; print its volume\n"
             "\n"
             "Run 'colibri COMMAND --help' for the options of a command.\n"
             "Exit status: 0 success, 1 the input was rejected or the work failed, 2 bad usage.\n");
@@ -36,6 +38,8 @@ int main(int argc, char **argv)
     }
     if (!strcmp(cmd, "info"))
         return cb_cli_info(argc - 1, argv + 1);
+    if (!strcmp(cmd, "check"))
+        return cb_cli_check(argc - 1, argv + 1);
     fprintf(stderr, "colibri: unknown command '%s'\n", cmd);
     usage(stderr);
     return 2;

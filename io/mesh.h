@@ -1,0 +1,45 @@
+/* mesh.h — triangle mesh files: STL, OBJ, PLY and OFF, read and written through OpenMesh.
+ *
+ * The format is chosen by the file extension (case-insensitive): .stl, .obj, .ply, .off.
+ * Vertices are shared in every format that can share them (all but STL, which stores three
+ * points per triangle; reading an STL file shares exactly equal points again).
+ *
+ * Precision: OpenMesh 9.0 hands coordinates to its writers and from its readers as 32-bit
+ * floats in every one of these formats (measured: a double written to OBJ, OFF or PLY comes
+ * back rounded to the nearest float; the PLY header says "float"), so a file holds each
+ * coordinate to about 7 significant digits (relative 6e-8) whatever the format allows. Text
+ * is written with 17 digits so that the float itself is exact in the file. For binary STL,
+ * float is the format's own definition.
+ *
+ * OpenMesh's readers and writers and its log streams are process-global: do not call these
+ * functions from several threads at once. */
+#ifndef CB_IO_MESH_H
+#define CB_IO_MESH_H
+
+#include "brep/mesh.h"
+#include "brep/status.h"
+
+typedef enum { CB_MESH_STL, CB_MESH_OBJ, CB_MESH_PLY, CB_MESH_OFF } cb_mesh_format;
+
+typedef struct {
+    int stl_ascii; /* write STL as text instead of binary */
+} cb_mesh_write_options;
+
+/* The format named by path's extension; CB_ERR_UNSUPPORTED, listing the known extensions,
+ * for any other. */
+cb_status cb_mesh_format_of_path(cb_mesh_format *fmt, const char *path, cb_error *err);
+
+/* Writes mesh to path in the format of its extension, with the defaults above when opt is
+ * NULL. CB_ERR_UNSUPPORTED for an unknown extension, CB_ERR_IO when the file cannot be
+ * written (with the system's reason when it cannot be created). */
+cb_status cb_mesh_write(const char *path, const cb_mesh_t mesh, const cb_mesh_write_options *opt,
+                        cb_error *err);
+
+/* Replaces the contents of mesh with the triangles of the file at path (format by extension);
+ * vertices keep the file's order and sharing. CB_ERR_IO when the file cannot be opened;
+ * CB_ERR_PARSE when OpenMesh cannot read it, or it holds no triangle, or a face is not a
+ * valid triangle (the message names the face); CB_ERR_UNSUPPORTED for faces of more than three
+ * vertices, which this triangle mesh type does not hold. mesh is empty on failure. */
+cb_status cb_mesh_read(cb_mesh_t mesh, const char *path, cb_error *err);
+
+#endif
