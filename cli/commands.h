@@ -4,6 +4,7 @@
 #define CB_CLI_COMMANDS_H
 
 int cb_cli_info(int argc, char **argv);
+int cb_cli_model(int argc, char **argv);
 int cb_cli_check(int argc, char **argv);
 
 #endif

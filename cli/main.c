@@ -14,6 +14,8 @@ static void usage(FILE *out)
             "commands:\n"
             "  info FILE     load a model (.step, .stp, .bpt) and print its counts, surface\n"
             "                types, bounds and validation (--json for one JSON object)\n"
+            "  model NAME    build a shipped model (hummingbird) in a given pose and write it\n"
+            "                as STEP (-o FILE.step)\n"
             "  check MESH    check that a mesh (.stl, .obj, .ply, .off) is closed, manifold,\n"
             "                outward and free of self-intersections; print its volume\n"
             "\n"
@@ -38,6 +40,8 @@ int main(int argc, char **argv)
     }
     if (!strcmp(cmd, "info"))
         return cb_cli_info(argc - 1, argv + 1);
+    if (!strcmp(cmd, "model"))
+        return cb_cli_model(argc - 1, argv + 1);
     if (!strcmp(cmd, "check"))
         return cb_cli_check(argc - 1, argv + 1);
     fprintf(stderr, "colibri: unknown command '%s'\n", cmd);

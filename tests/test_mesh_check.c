@@ -4,7 +4,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -12,6 +11,7 @@
 #include "brep/mesh_check.h"
 #include "brep/mesh_shapes.h"
 #include "check.h"
+#include "check_cli.h"
 #include "io/mesh.h"
 
 /* CGAL's exact predicates are slow under AddressSanitizer: smaller meshes there. */
@@ -305,7 +305,7 @@ static void test_value_type(void)
     /* Precondition failures name what is wrong. */
     CHECK(cb_mesh_append_triangle(m, 0, 1, 99, &err) == CB_ERR_INVALID &&
               strstr(err.msg, "outside"),
-          "out of range: %s", err.msg);
+          "cli_out of range: %s", err.msg);
     CHECK(cb_mesh_append_triangle(m, 0, 1, 1, &err) == CB_ERR_INVALID &&
               strstr(err.msg, "repeats"),
           "repeated vertex: %s", err.msg);
@@ -316,29 +316,6 @@ static void test_value_type(void)
 }
 
 /* ---------------------------------------------------------------- colibri check ------------ */
-
-static char out[1 << 14];
-
-static int run(const char *args)
-{
-    const char *bin = getenv("COLIBRI_BINARY");
-    char cmd[2048];
-    snprintf(cmd, sizeof cmd, "'%s' %s 2>&1", bin ? bin : "colibri", args);
-    FILE *p = popen(cmd, "r");
-    if (!p)
-        return -1;
-    size_t len = fread(out, 1, sizeof out - 1, p);
-    out[len] = '\0';
-    int st = pclose(p);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
-static void expect(const char *args, int code, const char *text)
-{
-    int got = run(args);
-    CHECK(got == code, "colibri %s: exit %d, expected %d; output:\n%s", args, got, code, out);
-    CHECK(strstr(out, text) != NULL, "colibri %s: output lacks '%s':\n%s", args, text, out);
-}
 
 /* The number after "key": in a JSON text; NaN when absent. */
 static double json_number(const char *json, const char *key)
@@ -360,26 +337,26 @@ static void test_cli(void)
     cb_error err;
     const double lo[3] = {0, 0, 0}, hi[3] = {2, 1, 1};
 
-    expect("check --help", 0, "usage: colibri check MESH");
-    expect("check", 2, "usage: colibri check");
-    expect("check a.stl b.stl", 2, "usage: colibri check");
-    expect("check --bogus a.stl", 2, "usage: colibri check");
+    cli_expect("check --help", 0, "usage: colibri check MESH");
+    cli_expect("check", 2, "usage: colibri check");
+    cli_expect("check a.stl b.stl", 2, "usage: colibri check");
+    cli_expect("check --bogus a.stl", 2, "usage: colibri check");
 
     cb_mesh_box(m, lo, hi, &err);
     snprintf(path, sizeof path, "%s/box.off", dir);
     CHECK(cb_mesh_write(path, m, NULL, &err) == CB_OK, "%s", err.msg);
     snprintf(args, sizeof args, "check %s", path);
-    expect(args, 0, "result: pass");
-    expect(args, 0, "volume: 2\n");
+    cli_expect(args, 0, "result: pass");
+    cli_expect(args, 0, "volume: 2\n");
     snprintf(args, sizeof args, "check %s --json", path);
-    expect(args, 0,
+    cli_expect(args, 0,
            "\"vertices\": 8, \"triangles\": 12, \"closed\": true, \"manifold\": true, "
            "\"edge_manifold\": true, \"vertex_manifold\": true, \"oriented\": true, "
            "\"triangle_mesh\": true, \"self_intersections\": false, \"bounds_volume\": true, "
            "\"outward\": true, \"volume\": ");
-    expect(args, 0, "\"passed\": true}");
-    CHECK(rel_diff(json_number(out, "volume"), 2) < 1e-15, "JSON volume %.17g",
-          json_number(out, "volume"));
+    cli_expect(args, 0, "\"passed\": true}");
+    CHECK(rel_diff(json_number(cli_out, "volume"), 2) < 1e-15, "JSON volume %.17g",
+          json_number(cli_out, "volume"));
 
     for (int f = 0; f < m->n_triangles; f++) {
         int t = m->tri[3 * f];
@@ -389,36 +366,36 @@ static void test_cli(void)
     snprintf(path, sizeof path, "%s/inward.stl", dir);
     CHECK(cb_mesh_write(path, m, NULL, &err) == CB_OK, "%s", err.msg);
     snprintf(args, sizeof args, "check %s", path);
-    expect(args, 1, "outward: no");
+    cli_expect(args, 1, "outward: no");
     snprintf(args, sizeof args, "check --json %s", path);
-    expect(args, 1, "\"outward\": false, \"volume\": ");
-    CHECK(rel_diff(json_number(out, "volume"), -2) < 1e-15, "JSON volume %.17g",
-          json_number(out, "volume"));
+    cli_expect(args, 1, "\"outward\": false, \"volume\": ");
+    CHECK(rel_diff(json_number(cli_out, "volume"), -2) < 1e-15, "JSON volume %.17g",
+          json_number(cli_out, "volume"));
 
     m->n_triangles--;
     snprintf(path, sizeof path, "%s/open.ply", dir);
     CHECK(cb_mesh_write(path, m, NULL, &err) == CB_OK, "%s", err.msg);
     snprintf(args, sizeof args, "check %s", path);
-    expect(args, 1, "closed: no (3 boundary edges)");
+    cli_expect(args, 1, "closed: no (3 boundary edges)");
     snprintf(args, sizeof args, "check --json %s", path);
-    expect(args, 1, "\"bounds_volume\": null, \"outward\": null, \"volume\": null");
+    cli_expect(args, 1, "\"bounds_volume\": null, \"outward\": null, \"volume\": null");
 
     snprintf(args, sizeof args, "check %s/missing.obj", dir);
-    expect(args, 1, "missing.obj: cannot open");
+    cli_expect(args, 1, "missing.obj: cannot open");
     snprintf(path, sizeof path, "%s/garbage.off", dir);
     FILE *f = fopen(path, "w");
     fputs("this is not an OFF file\n\x01\x02\x03\n", f);
     fclose(f);
     snprintf(args, sizeof args, "check %s", path);
-    expect(args, 1, "garbage.off: ");
+    cli_expect(args, 1, "garbage.off: ");
     snprintf(path, sizeof path, "%s/garbage.stl", dir);
     f = fopen(path, "w");
     fputs("solid nonsense\n  facet normal 0 0 1\n    outer loop\n      vertex 1 2\n", f);
     fclose(f);
     snprintf(args, sizeof args, "check %s", path);
-    expect(args, 1, "garbage.stl: ");
+    cli_expect(args, 1, "garbage.stl: ");
     snprintf(args, sizeof args, "check %s/box.step", dir);
-    expect(args, 1, "unknown mesh format");
+    cli_expect(args, 1, "unknown mesh format");
 
     snprintf(args, sizeof args, "rm -rf %s", dir);
     CHECK(system(args) == 0, "cannot remove %s", dir);
