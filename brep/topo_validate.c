@@ -1,5 +1,6 @@
 /* Validation of a body: shell closure and edge use, loop closure, edge ends at vertices,
- * degenerate faces, edges on their faces' surfaces. */
+ * degenerate faces, edges on their faces' surfaces, pcurves on their edges and loops closed in
+ * (u, v), outward orientation of closed shells. */
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -231,6 +232,159 @@ static cb_status check_on_surfaces(cb_topo_report *r, const cb_topo_body *b, dou
     return st;
 }
 
+/* Largest distance from S(a) along the (u, v) segment a -> b: within tol when the two points
+ * coincide on the surface or share a collapsed line (a pole). */
+static double uv_spread(const cb_topo_inverter *inv, const double a[2], const double b[2])
+{
+    double pa[3], worst = 0;
+    cb_topo_inverter_eval(pa, inv, a[0], a[1]);
+    for (int k = 1; k <= 4; k++) {
+        double p[3], s = k / 4.0;
+        cb_topo_inverter_eval(p, inv, a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]));
+        worst = fmax(worst, cb_vec3_dist(p, pa));
+    }
+    return worst;
+}
+
+/* Pcurve of coedge c against its edge over the part it uses (range written to s), in 3D:
+ * parameter by parameter for pcurves of the edge's parameterisation, else the distance to the
+ * edge curve. */
+double cb_topo_coedge_pcurve_error(double range[2], const cb_topo_body *b, int c,
+                                   const cb_topo_inverter *inv, double tol, int n_samples)
+{
+    const cb_topo_coedge *co = &b->coedges[c];
+    const cb_topo_edge *ed = &b->edges[co->edge];
+    const cb_topo_curve *pc = &b->pcurves[co->pcurve], *cv = &b->curves[ed->curve];
+    double etol = edge_tol(b, co->edge, tol);
+    double worst = cb_topo_coedge_pcurve_range(&range[0], &range[1], b, c, inv, etol);
+    if (worst > etol)
+        return worst;
+    if (n_samples < 2)
+        n_samples = 2;
+    int forward = co->sense == ed->same_sense;
+    for (int k = 0; k < n_samples; k++) {
+        double x = (double)k / (n_samples - 1), w[3], p[3], q[3];
+        cb_topo_pcurve_eval(w, pc, range[0] + (range[1] - range[0]) * x);
+        cb_topo_inverter_eval(p, inv, w[0], w[1]);
+        cb_topo_curve_eval(q, cv, forward ? ed->t0 + (ed->t1 - ed->t0) * x
+                                          : ed->t1 - (ed->t1 - ed->t0) * x);
+        double d = cb_vec3_dist(p, q);
+        /* The parameterisations may differ (a file's pcurve need not share the edge's
+         * parameter): what counts is the distance to the edge itself. */
+        if (d > etol)
+            d = fmin(d, cb_topo_edge_distance(b, co->edge, p));
+        worst = fmax(worst, d);
+    }
+    return worst;
+}
+
+static cb_status check_pcurve(cb_topo_report *r, const cb_topo_body *b, int c,
+                              const cb_topo_inverter *inv, double tol, int n_samples,
+                              double s[2], cb_error *err)
+{
+    const cb_topo_coedge *co = &b->coedges[c];
+    double etol = edge_tol(b, co->edge, tol);
+    double gap = cb_topo_coedge_pcurve_range(&s[0], &s[1], b, c, inv, etol);
+    int f = b->loops[co->loop].face;
+    if (gap > etol)
+        return problem(r, err, "coedge %d: pcurve ends %.3g from its edge's ends on face %d", c,
+                       gap, f);
+    double worst = cb_topo_coedge_pcurve_error(s, b, c, inv, tol, n_samples);
+    if (worst > etol)
+        return problem(r, err, "coedge %d: pcurve %.3g off its edge %d on face %d", c, worst,
+                       co->edge, f);
+    return CB_OK;
+}
+
+/* Pcurves on their edges; loops whose coedges all have pcurves closed in (u, v). */
+static cb_status check_pcurves(cb_topo_report *r, const cb_topo_body *b, double tol,
+                               int n_samples, cb_error *err)
+{
+    cb_status st = CB_OK;
+    double(*range)[2] = malloc(((size_t)b->n_coedges + 1) * sizeof *range);
+    if (!range)
+        return cb_error_set(err, CB_ERR_NOMEM, "validation: out of memory");
+    if (n_samples < 2)
+        n_samples = 2;
+    for (int f = 0; f < b->n_faces && !st; f++) {
+        const cb_topo_face *fc = &b->faces[f];
+        int with = 0;
+        for (int l = fc->first; l < fc->first + fc->count; l++)
+            for (int c = b->loops[l].first; c < b->loops[l].first + b->loops[l].count; c++)
+                with += b->coedges[c].pcurve >= 0;
+        if (!with)
+            continue;
+        cb_topo_inverter inv;
+        if ((st = cb_topo_inverter_init(&inv, &b->surfaces[fc->surface], tol, err)))
+            break;
+        for (int l = fc->first; l < fc->first + fc->count && !st; l++) {
+            const cb_topo_loop *lp = &b->loops[l];
+            int all = 1, bad = r->n;
+            for (int c = lp->first; c < lp->first + lp->count && !st; c++) {
+                if (b->coedges[c].pcurve < 0)
+                    all = 0;
+                else
+                    st = check_pcurve(r, b, c, &inv, tol, n_samples, range[c], err);
+            }
+            if (st || !all || r->n > bad)
+                continue;
+            for (int k = 0; k < lp->count && !st; k++) {
+                int c = lp->first + k, n = lp->first + (k + 1) % lp->count;
+                double a[3], z[3];
+                cb_topo_pcurve_eval(a, &b->pcurves[b->coedges[c].pcurve], range[c][1]);
+                cb_topo_pcurve_eval(z, &b->pcurves[b->coedges[n].pcurve], range[n][0]);
+                double moved[2] = {z[0], z[1]};
+                for (int i = 0; i < 2; i++)
+                    if (inv.lift[i] > 0)
+                        moved[i] += inv.lift[i] * round((a[i] - z[i]) / inv.lift[i]);
+                double tl = fmax(edge_tol(b, b->coedges[c].edge, tol),
+                                 edge_tol(b, b->coedges[n].edge, tol));
+                if (uv_spread(&inv, a, z) > tl && uv_spread(&inv, a, moved) > tl)
+                    st = problem(r, err,
+                                 "face %d: loop %d open in (u, v) after coedge %d: (%.6g, %.6g) "
+                                 "to (%.6g, %.6g)",
+                                 f, l, c, a[0], a[1], z[0], z[1]);
+            }
+        }
+        cb_topo_inverter_clear(&inv);
+    }
+    free(range);
+    return st;
+}
+
+/* Closed shells with pcurves throughout: outward, by the sign of their enclosed volume. */
+static cb_status check_orientation(cb_topo_report *r, const cb_topo_body *b, double tol,
+                                   cb_error *err)
+{
+    cb_status st = CB_OK;
+    for (int k = 0; k < b->n_shells && !st; k++) {
+        const cb_topo_shell *sh = &b->shells[k];
+        int all = sh->closed;
+        for (int f = sh->first; f < sh->first + sh->count && all; f++)
+            for (int l = b->faces[f].first; l < b->faces[f].first + b->faces[f].count; l++)
+                for (int c = b->loops[l].first; c < b->loops[l].first + b->loops[l].count; c++)
+                    all &= b->coedges[c].pcurve >= 0;
+        if (!all)
+            continue;
+        double vol;
+        cb_error local;
+        cb_status vs = cb_topo_shell_volume(&vol, b, k, 64, tol, &local);
+        if (vs == CB_ERR_NOMEM)
+            return cb_error_set(err, vs, "%s", local.msg);
+        /* A void's faces face into its cavity, away from the material: its own signed volume
+         * is negative. */
+        int void_shell = sh->solid >= 0 && b->solids[sh->solid].first != k;
+        if (vs)
+            st = problem(r, err, "shell %d: orientation not decided: %s", k, local.msg);
+        else if (!void_shell && vol < 0)
+            st = problem(r, err, "shell %d: inward oriented (signed volume %.3g)", k, vol);
+        else if (void_shell && vol > 0)
+            st = problem(r, err, "shell %d: void facing out of its cavity (signed volume %.3g)",
+                         k, vol);
+    }
+    return st;
+}
+
 cb_status cb_topo_validate(cb_topo_report *r, cb_topo_body *b, double tol, int n_samples,
                            cb_error *err)
 {
@@ -243,7 +397,9 @@ cb_status cb_topo_validate(cb_topo_report *r, cb_topo_body *b, double tol, int n
     if (!(tol > 0))
         tol = b->tol > 0 ? b->tol : 1e-6;
     if ((st = check_edges(r, b, tol, err)) || (st = check_edge_use(r, b, err)) ||
-        (st = check_loops(r, b, tol, err)) || (st = check_on_surfaces(r, b, tol, n_samples, err)))
+        (st = check_loops(r, b, tol, err)) || (st = check_on_surfaces(r, b, tol, n_samples, err)) ||
+        (st = check_pcurves(r, b, tol, n_samples, err)) ||
+        (st = check_orientation(r, b, tol, err)))
         return st;
     return CB_OK;
 }

@@ -1,6 +1,7 @@
 /* Entry points of the STEP reader: load the file, parse, map, index. */
 #include <errno.h>
 #include <stdio.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -9,6 +10,32 @@
 /* Files beyond this are refused rather than parsed: node offsets are ints, and the parsed form
  * takes several times the file size. */
 static const long MAX_FILE_BYTES = 1L << 30;
+
+/* Relative to the model size: the fitting tolerance of computed pcurves when the file states
+ * no uncertainty. */
+static const double DEFAULT_RELATIVE_TOL = 1e-6;
+
+/* Replaces pcurves that miss their edges and computes the missing ones (most files give none).
+ * A coedge whose pcurve cannot be fitted (an edge through a pole) is left without one: the
+ * 3D B-rep is still whole, and the validator says which coedges lack pcurves. */
+static cb_status complete_pcurves(cb_topo_body *b, cb_error *err)
+{
+    double tol = b->tol;
+    if (!(tol > 0)) {
+        cb_aabb box;
+        cb_topo_body_edge_box(&box, b);
+        double d[3] = {box.hi[0] - box.lo[0], box.hi[1] - box.lo[1], box.hi[2] - box.lo[2]};
+        tol = DEFAULT_RELATIVE_TOL * fmax(cb_vec3_norm(d), 1e-300);
+    }
+    int dropped;
+    cb_error local;
+    cb_status st = cb_topo_repair_pcurves(b, tol, 9, &dropped, &local);
+    if (st == CB_ERR_NUMERIC)
+        return CB_OK;
+    if (st)
+        cb_error_set(err, st, "%s", local.msg);
+    return st;
+}
 
 static cb_status read_loaded(cb_topo_body **out, step_file *f)
 {
@@ -25,6 +52,8 @@ static cb_status read_loaded(cb_topo_body **out, step_file *f)
         st = step_map_body(f);
     if (!st)
         st = cb_topo_body_index(f->body, f->err);
+    if (!st)
+        st = complete_pcurves(f->body, f->err);
     if (st) {
         cb_topo_body_free(f->body);
         f->body = NULL;
