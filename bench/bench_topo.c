@@ -1,10 +1,13 @@
-/* bench_topo — time of the certified curve topology (ssi/topo.c) against the bidegree of phi.
+/* bench_topo — time of the certified curve topology (ssi/curve_topo.h) against the bidegree of
+ * phi.
  *
  * Usage: bench_topo [max_degree [coeff_bits]]   (defaults 18 and 16)
- * For d = 6, 12, 18, ... up to max_degree: a random dense phi of bidegree (d, d) with
- * coeff_bits-bit coefficients, and a designed one (a product of d/2 circles in [0, 1]^2,
- * bidegree (d, d)). Prints the time of the resultant alone and of the whole topology, and the
- * counts. Not a ctest test: bidegree 24 random curves take minutes. */
+ * For d = 6, 12, 16, 18, 24, ... up to max_degree (the bidegrees of phi for a quadric, a torus
+ * and a biquadratic patch against a bicubic one, primer section 3): a random dense phi of
+ * bidegree (d, d) with coeff_bits-bit coefficients, and a designed one (a product of d/2
+ * circles in [0, 1]^2, bidegree (d, d)) whose counts are known from the circles' geometry and
+ * checked. Prints the time of the resultant alone and of the whole topology, and the counts.
+ * Not a ctest test. */
 #define _POSIX_C_SOURCE 199309L /* clock_gettime under -std=c11 */
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,10 +37,26 @@ static void random_phi(fmpz_mpoly_t phi, slong d, flint_bitcnt_t bits, flint_ran
     fmpz_clear(c);
 }
 
-/* prod_k (N s - a_k)^2 + (N t - b_k)^2 - r_k^2 with centres and radii in [0, 1] / N. */
-static void circles_phi(fmpz_mpoly_t phi, slong n, flint_rand_t state, const fmpz_mpoly_ctx_t ctx)
+typedef struct {
+    slong components, singular; /* -1: unknown */
+} expected;
+
+static slong uf_find(slong *parent, slong x)
+{
+    while (parent[x] != x)
+        x = parent[x] = parent[parent[x]];
+    return x;
+}
+
+/* prod_k (N s - a_k)^2 + (N t - b_k)^2 - r_k^2 with centres and radii in [0, 1] / N: circles
+ * inside the box (centres in [0.2, 0.8], radii at most 0.2). Two of them cross at two points
+ * when |r_i - r_j| < |c_i - c_j| < r_i + r_j (integers: exact); ex gets the components (union
+ * of crossing pairs) and the crossings, or -1 when a pair touches or coincides. */
+static void circles_phi(fmpz_mpoly_t phi, slong n, flint_rand_t state, expected *ex,
+                        const fmpz_mpoly_ctx_t ctx)
 {
     const slong N = 1000;
+    slong ca[64], cb[64], cr[64], parent[64];
     fmpz_mpoly_t c, x;
     fmpz_mpoly_init(c, ctx);
     fmpz_mpoly_init(x, ctx);
@@ -45,6 +64,10 @@ static void circles_phi(fmpz_mpoly_t phi, slong n, flint_rand_t state, const fmp
     for (slong k = 0; k < n; k++) {
         slong a = 200 + (slong)n_randint(state, 600), b = 200 + (slong)n_randint(state, 600);
         slong r = 50 + (slong)n_randint(state, 150);
+        ca[k] = a;
+        cb[k] = b;
+        cr[k] = r;
+        parent[k] = k;
         fmpz_mpoly_gen(x, 0, ctx);
         fmpz_mpoly_scalar_mul_si(x, x, N, ctx);
         fmpz_mpoly_sub_si(x, x, a, ctx);
@@ -59,9 +82,30 @@ static void circles_phi(fmpz_mpoly_t phi, slong n, flint_rand_t state, const fmp
     }
     fmpz_mpoly_clear(x, ctx);
     fmpz_mpoly_clear(c, ctx);
+    ex->components = n;
+    ex->singular = 0;
+    for (slong i = 0; i < n; i++)
+        for (slong j = i + 1; j < n; j++) {
+            slong d2 = (ca[i] - ca[j]) * (ca[i] - ca[j]) + (cb[i] - cb[j]) * (cb[i] - cb[j]);
+            slong lo = (cr[i] - cr[j]) * (cr[i] - cr[j]), hi = (cr[i] + cr[j]) * (cr[i] + cr[j]);
+            if (d2 == lo || d2 == hi) {
+                ex->components = ex->singular = -1;
+                return;
+            }
+            if (lo < d2 && d2 < hi) {
+                ex->singular += 2;
+                slong a = uf_find(parent, i), b = uf_find(parent, j);
+                if (a != b) {
+                    parent[a] = b;
+                    ex->components--;
+                }
+            }
+        }
 }
 
-static void run(const char *what, slong d, const fmpz_mpoly_t phi, const fmpz_mpoly_ctx_t ctx)
+/* Returns the total time. */
+static double run(const char *what, slong d, const fmpz_mpoly_t phi, const expected *ex,
+                  const fmpz_mpoly_ctx_t ctx)
 {
     fmpq_t zero, one;
     cb_ctopo_opts opts;
@@ -85,11 +129,18 @@ static void run(const char *what, slong d, const fmpz_mpoly_t phi, const fmpz_mp
     double t_topo = now() - t0;
     printf("%-8s (%2ld,%2ld)  resultant %8.3f s  topology %8.3f s  ", what, (long)d, (long)d,
            t_res, t_topo);
-    if (st == CB_OK)
-        printf("lines %4ld components %3ld loops %3ld isolated %2ld singular %3ld\n",
+    if (st == CB_OK) {
+        printf("certified  lines %4ld components %3ld loops %3ld isolated %2ld singular %3ld",
                (long)T->n_lines, (long)T->n_components, (long)T->n_loops, (long)T->n_isolated,
                (long)T->n_singular);
-    else
+        if (ex && ex->components >= 0)
+            printf("  (%s: expected %ld, %ld)",
+                   ex->components == T->n_components && ex->singular == T->n_singular
+                       ? "ok"
+                       : "WRONG",
+                   (long)ex->components, (long)ex->singular);
+        printf("\n");
+    } else
         printf("%s: %s\n", cb_status_name(st), err.msg);
     fflush(stdout);
     cb_ctopo_clear(T);
@@ -97,24 +148,30 @@ static void run(const char *what, slong d, const fmpz_mpoly_t phi, const fmpz_mp
     fmpz_mpoly_clear(pt, ctx);
     fmpq_clear(one);
     fmpq_clear(zero);
+    return t_res + t_topo;
 }
 
 int main(int argc, char **argv)
 {
     slong max_d = argc > 1 ? atol(argv[1]) : 18;
     flint_bitcnt_t bits = argc > 2 ? (flint_bitcnt_t)atol(argv[2]) : 16;
+    static const slong degrees[] = {6, 12, 16, 18, 24, 30, 36, 42, 48, 54};
     fmpz_mpoly_ctx_t ctx;
     fmpz_mpoly_t phi;
     flint_rand_t state;
+    expected ex;
+    double total = 0.0;
     fmpz_mpoly_ctx_init(ctx, 2, ORD_LEX);
     fmpz_mpoly_init(phi, ctx);
     flint_randinit(state);
-    for (slong d = 6; d <= max_d; d += 6) {
+    for (size_t i = 0; i < sizeof degrees / sizeof *degrees && degrees[i] <= max_d; i++) {
+        slong d = degrees[i];
         random_phi(phi, d, bits, state, ctx);
-        run("random", d, phi, ctx);
-        circles_phi(phi, d / 2, state, ctx);
-        run("circles", d, phi, ctx);
+        total += run("random", d, phi, NULL, ctx);
+        circles_phi(phi, d / 2, state, &ex, ctx);
+        total += run("circles", d, phi, &ex, ctx);
     }
+    printf("total %.3f s\n", total);
     flint_randclear(state);
     fmpz_mpoly_clear(phi, ctx);
     fmpz_mpoly_ctx_clear(ctx);

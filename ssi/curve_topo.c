@@ -296,6 +296,26 @@ static void curve_prepare(cb_ctopo_curve_struct *C, fmpz_poly_t cont, fmpz_poly_
     fmpz_mpoly_factor_clear(fac, ctx);
 }
 
+/* Precision for ball tests on h: h is evaluated where it is tiny, so the relative precision
+ * needed grows with the size of its terms there — the coefficient bits, plus the degree times
+ * the bits of the largest box coordinate, plus the bits of the number of terms — on top of the
+ * margin opts->prec. */
+static slong curve_prec(const cb_ctopo_curve_struct *C)
+{
+    slong bits = 0;
+    for (slong j = 0; j < C->h->len; j++)
+        bits = FLINT_MAX(bits, FLINT_ABS(fmpz_poly_max_bits(C->h->c + j)));
+    slong ds = FLINT_MAX(cb_bipoly_deg_s(C->h), 0), dt = FLINT_MAX(C->h->len - 1, 0);
+    slong mag = 0;
+    const fmpq *corner[4] = {C->s0, C->s1, C->t0, C->t1};
+    for (int i = 0; i < 4; i++) {
+        /* bits of |corner| rounded up, 0 inside [-1, 1] */
+        slong b = (slong)fmpz_bits(fmpq_numref(corner[i])) - (slong)fmpz_bits(fmpq_denref(corner[i])) + 1;
+        mag = FLINT_MAX(mag, b);
+    }
+    return C->opts->prec + bits + (ds + dt) * mag + FLINT_BIT_COUNT((ulong)((ds + 1) * (dt + 1)));
+}
+
 /* ------------------------------------------------------------------------ critical lines --- */
 
 static void line_init(cb_ctopo_line_struct *L)
@@ -531,6 +551,7 @@ cb_status cb_ctopo_compute(cb_ctopo_t T, const fmpz_mpoly_t phi, const fmpz_mpol
     cb_status st = CB_OK;
 
     curve_prepare(&C, cont, cont_rep, &T->has_repeated_factor, phi, ctx);
+    C.prec = curve_prec(&C);
 
     /* D = Res_t(h, h_t) lc h(s, t0) h(s, t1) cont, each factor made squarefree first. */
     sqfree_part(D, C.res);

@@ -66,13 +66,6 @@ void cb_bipoly_eval_t_fmpq(fmpz_poly_t out, const cb_bipoly_struct *p, const fmp
 void cb_bipoly_eval_arb(arb_t y, const cb_bipoly_struct *p, const arb_t s, const arb_t t,
                         slong prec);
 
-/* The same enclosure, tightened by the mean value form p(m) + p_s(B) (s - m_s) + p_t(B)
- * (t - m_t) on the box B = s x t (ps = dp/ds, pt = dp/dt): its overestimation shrinks with
- * the square of the box size, where plain Horner's shrinks linearly and suffers from the
- * cancellation among large coefficients of a polynomial that is small on the box. */
-void cb_bipoly_eval_arb_mv(arb_t y, const cb_bipoly_struct *p, const cb_bipoly_struct *ps,
-                           const cb_bipoly_struct *pt, const arb_t s, const arb_t t, slong prec);
-
 /* ------------------------------------------------------------ real algebraic numbers ------ */
 
 /* A real algebraic number alpha given by a squarefree r in Z[s] and an isolating interval:
@@ -215,6 +208,8 @@ typedef struct {
     int side_t[2];       /* t - t0 (resp. t - t1) divides h */
     fmpq_t s0, s1, t0, t1;
     const cb_ctopo_opts *opts;
+    slong prec; /* working precision of ball tests: opts->prec plus the bits that cancel among
+                   the terms of h on the box (coefficient size, degrees, box magnitude) */
 } cb_ctopo_curve_struct;
 
 /* A certified box [line->left, line->right] x [c, d] of a critical line. It holds at most one

@@ -157,31 +157,3 @@ void cb_bipoly_eval_arb(arb_t y, const cb_bipoly_struct *p, const arb_t s, const
     }
     arb_clear(c);
 }
-
-void cb_bipoly_eval_arb_mv(arb_t y, const cb_bipoly_struct *p, const cb_bipoly_struct *ps,
-                           const cb_bipoly_struct *pt, const arb_t s, const arb_t t, slong prec)
-{
-    arb_t sm, tm, ds, dt, g;
-    arb_init(sm);
-    arb_init(tm);
-    arb_init(ds);
-    arb_init(dt);
-    arb_init(g);
-    arb_get_mid_arb(sm, s);
-    arb_get_mid_arb(tm, t);
-    arb_sub(ds, s, sm, prec);
-    arb_sub(dt, t, tm, prec);
-    cb_bipoly_eval_arb(y, p, sm, tm, prec);
-    cb_bipoly_eval_arb(g, ps, s, t, prec);
-    arb_addmul(y, g, ds, prec);
-    cb_bipoly_eval_arb(g, pt, s, t, prec);
-    arb_addmul(y, g, dt, prec);
-    cb_bipoly_eval_arb(g, p, s, t, prec);
-    /* Both enclose the range; they always intersect. */
-    arb_intersection(y, y, g, prec);
-    arb_clear(g);
-    arb_clear(dt);
-    arb_clear(ds);
-    arb_clear(tm);
-    arb_clear(sm);
-}

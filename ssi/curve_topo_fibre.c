@@ -3,6 +3,7 @@
 
 #include <string.h>
 
+#include <arb_fmpz_poly.h>
 #include <arb_poly.h>
 #include <flint/fmpz_poly_factor.h>
 
@@ -98,11 +99,19 @@ typedef struct {
     cb_bipoly_t hf;           /* irrational alpha: h without the t-coefficients vanishing at
                                  alpha, so that its leading one does not (subresultants) */
     cb_bipoly_t *deriv;       /* deriv[m] = d^m h / dt^m */
-    cb_bipoly_t *deriv_s;     /* deriv_s[m] = d deriv[m] / ds */
     slong n_deriv;
+    arb_poly_struct *fib;     /* fib[m](t) encloses deriv[m](s, t) for every s in the current
+                                 s-range: coefficients in s enclosed once per range */
+    slong n_fib, alloc_fib;
+    slong fib_prec;
     fmpq_t sl, sr;            /* the s-range of the boxes */
     fmpq_t w;                 /* half-width of the pinned boxes */
     fmpq_t t0, t1;            /* copies of the curve's: GCC 12 misjudges the members' sizes */
+    slong prec;               /* working precision of the first attempt (C->prec) */
+    int have_beta;            /* irrational alpha: beta_num, beta_den computed */
+    fmpz_poly_t beta_num, beta_den; /* the multiple root is beta_num(alpha) / beta_den(alpha):
+                                       -sres_{k,k-1} and k psc_k, exact, made only when ball
+                                       determinants at alpha do not decide */
 } line_state;
 
 static cb_status state_pin_push(line_state *st, cb_error *err)
@@ -145,6 +154,38 @@ static void range_update(line_state *st)
     }
     fmpq_set(st->sl, L->has_left ? L->left : L->lo);
     fmpq_set(st->sr, L->has_right ? L->right : L->hi);
+    st->n_fib = 0;
+}
+
+/* About -log2(w) (within 1), at least 0, for w > 0. */
+static slong neg_log2(const fmpq_t w)
+{
+    slong b = (slong)fmpz_bits(fmpq_denref(w)) - (slong)fmpz_bits(fmpq_numref(w)) - 1;
+    return FLINT_MAX(b, 0);
+}
+
+/* How many bits the interval lo < hi knows. */
+static slong interval_bits(const fmpq_t lo, const fmpq_t hi)
+{
+    fmpq_t w;
+    fmpq_init(w);
+    fmpq_sub(w, hi, lo);
+    slong b = neg_log2(w);
+    fmpq_clear(w);
+    return b;
+}
+
+/* Irrational alpha: refines its interval to width <= 2^-bits (exactly, by bisection on the sign
+ * of the squarefree critical polynomial) and updates the s-range. */
+static void alpha_refine(line_state *st, slong bits)
+{
+    fmpq_t w;
+    fmpq_init(w);
+    fmpz_one(fmpq_numref(w));
+    fmpz_one_2exp(fmpq_denref(w), (ulong)bits);
+    cb_roots_refine(st->cv, st->k, w);
+    fmpq_clear(w);
+    range_update(st);
 }
 
 /* Shrinks the s-range: alpha's interval to 1/16 of its width, or eps to eps / 16. */
@@ -163,39 +204,103 @@ static void range_shrink(line_state *st)
     range_update(st);
 }
 
-/* Makes deriv[0 .. m] and deriv_s[0 .. m] available. */
+/* Encloses p(S) by the mean value form p(m) + p'(S) (S - m), intersected with Horner's: on
+ * the narrow interval of an algebraic number Horner alone loses to cancellation. */
+static void poly_eval_mv(arb_t y, const fmpz_poly_t p, const arb_t S, slong prec)
+{
+    fmpz_poly_t dp;
+    arb_t m, g;
+    fmpz_poly_init(dp);
+    arb_init(m);
+    arb_init(g);
+    fmpz_poly_derivative(dp, p);
+    arb_get_mid_arb(m, S);
+    arb_fmpz_poly_evaluate_arb(g, dp, S, prec);
+    arb_sub(y, S, m, prec);
+    arb_mul(g, g, y, prec);
+    arb_fmpz_poly_evaluate_arb(y, p, m, prec);
+    arb_add(y, y, g, prec);
+    arb_fmpz_poly_evaluate_arb(g, p, S, prec);
+    arb_intersection(y, y, g, prec);
+    arb_clear(g);
+    arb_clear(m);
+    fmpz_poly_clear(dp);
+}
+
+/* Makes deriv[0 .. m] available. */
 static void deriv_fit(line_state *st, slong m)
 {
     while (st->n_deriv <= m) {
         slong n = st->n_deriv;
         st->deriv = flint_realloc(st->deriv, (size_t)(n + 1) * sizeof *st->deriv);
-        st->deriv_s = flint_realloc(st->deriv_s, (size_t)(n + 1) * sizeof *st->deriv_s);
         cb_bipoly_init(st->deriv[n]);
-        cb_bipoly_init(st->deriv_s[n]);
         if (n == 0)
             cb_bipoly_set(st->deriv[0], st->C->h);
         else
             cb_bipoly_derivative_t(st->deriv[n], st->deriv[n - 1]);
-        cb_bipoly_derivative_s(st->deriv_s[n], st->deriv[n]);
         st->n_deriv++;
     }
 }
 
-/* Is d^m h / dt^m free of zeros on [sl, sr] x [c, d]? */
+/* The ball polynomial in t enclosing d^m h / dt^m over the current s-range, made at precision
+ * prec (kept until the range or the precision changes). */
+static const arb_poly_struct *fib_poly(line_state *st, slong m, slong prec)
+{
+    if (prec != st->fib_prec) {
+        st->n_fib = 0;
+        st->fib_prec = prec;
+    }
+    if (m >= st->alloc_fib) {
+        st->fib = flint_realloc(st->fib, (size_t)(m + 1) * sizeof *st->fib);
+        for (slong i = st->alloc_fib; i <= m; i++)
+            arb_poly_init(st->fib + i);
+        st->alloc_fib = m + 1;
+    }
+    if (m < st->n_fib)
+        return st->fib + m;
+    arb_t S, c;
+    arb_init(S);
+    arb_init(c);
+    arb_set_fmpq_interval(S, st->sl, st->sr, prec);
+    deriv_fit(st, m);
+    for (slong i = st->n_fib; i <= m; i++) {
+        const cb_bipoly_struct *q = st->deriv[i];
+        arb_poly_zero(st->fib + i);
+        for (slong j = 0; j < q->len; j++) {
+            poly_eval_mv(c, q->c + j, S, prec);
+            arb_poly_set_coeff_arb(st->fib + i, j, c);
+        }
+    }
+    st->n_fib = m + 1;
+    arb_clear(c);
+    arb_clear(S);
+    return st->fib + m;
+}
+
+/* Is d^m h / dt^m free of zeros on [sl, sr] x [c, d]? The t-polynomial is Taylor-shifted to
+ * the centre of [c, d] and evaluated on the centred interval: the shifted coefficients have
+ * the size of the function there, where Horner on [c, d] (or a mean value form with a Horner
+ * derivative) pays for the cancellation among large power-basis coefficients — at bidegree 12
+ * that forced boxes of width 1e-4 and tens of thousands of them per line. */
 static int nonzero_on(line_state *st, slong m, const fmpq_t c, const fmpq_t d, slong prec)
 {
-    arb_t S, T, y;
-    arb_init(S);
+    const arb_poly_struct *H = fib_poly(st, m, prec);
+    arb_poly_t G;
+    arb_t T, tm, y;
+    arb_poly_init(G);
     arb_init(T);
+    arb_init(tm);
     arb_init(y);
-    arb_set_fmpq_interval(S, st->sl, st->sr, prec);
     arb_set_fmpq_interval(T, c, d, prec);
-    deriv_fit(st, m + 1);
-    cb_bipoly_eval_arb_mv(y, st->deriv[m], st->deriv_s[m], st->deriv[m + 1], S, T, prec);
+    arb_get_mid_arb(tm, T);
+    arb_sub(T, T, tm, prec);
+    arb_poly_taylor_shift(G, H, tm, prec);
+    arb_poly_evaluate(y, G, T, prec);
     int ok = !arb_contains_zero(y);
     arb_clear(y);
+    arb_clear(tm);
     arb_clear(T);
-    arb_clear(S);
+    arb_poly_clear(G);
     return ok;
 }
 
@@ -278,20 +383,65 @@ static cb_status rational_facts(line_state *st, cb_error *err)
     return stt;
 }
 
-/* -s(k, k-1)(alpha) / (k psc_k(alpha)) as a ball. */
+/* Makes the exact beta_num = -sres_{k,k-1}, beta_den = k psc_k (k = gcd_deg >= 1); beta_den
+ * may already be there (non-zero: psc_k does not vanish at alpha) from the gcd degree. */
+static void beta_exact(line_state *st)
+{
+    if (st->have_beta)
+        return;
+    slong k = st->gcd_deg;
+    if (fmpz_poly_is_zero(st->beta_den)) {
+        cb_ctopo_sres_coeff(st->beta_den, st->hf, k, k);
+        fmpz_poly_scalar_mul_si(st->beta_den, st->beta_den, k);
+    }
+    cb_ctopo_sres_coeff(st->beta_num, st->hf, k, k - 1);
+    fmpz_poly_neg(st->beta_num, st->beta_num);
+    st->have_beta = 1;
+}
+
+/* beta = -sres_{k,k-1}(alpha) / (k psc_k(alpha)) as a ball: from the exact polynomials when
+ * they exist, else from the subresultant determinants evaluated at the alpha ball (cheap, but
+ * the Sylvester matrix is nearly singular at a critical value, so this can stay undecided). */
 static void beta_ball(arb_t beta, line_state *st, slong prec)
 {
     arb_t S, den;
     arb_init(S);
     arb_init(den);
     arb_set_fmpq_interval(S, st->L->lo, st->L->hi, prec);
-    cb_ctopo_sres_coeff_arb(den, st->hf, st->gcd_deg, st->gcd_deg, S, prec);
-    cb_ctopo_sres_coeff_arb(beta, st->hf, st->gcd_deg, st->gcd_deg - 1, S, prec);
-    arb_mul_si(den, den, st->gcd_deg, prec);
+    if (st->have_beta) {
+        poly_eval_mv(den, st->beta_den, S, prec);
+        poly_eval_mv(beta, st->beta_num, S, prec);
+    } else {
+        cb_ctopo_sres_coeff_arb(den, st->hf, st->gcd_deg, st->gcd_deg, S, prec);
+        arb_mul_si(den, den, st->gcd_deg, prec);
+        cb_ctopo_sres_coeff_arb(beta, st->hf, st->gcd_deg, st->gcd_deg - 1, S, prec);
+        arb_neg(beta, beta);
+    }
     arb_div(beta, beta, den, prec);
-    arb_neg(beta, beta);
     arb_clear(den);
     arb_clear(S);
+}
+
+/* Encloses beta in a ball of width <= 2^-goal. beta = N(alpha) / D(alpha) where N and D can
+ * both be tiny at alpha (a root of D within 2^-300 of alpha was met at bidegree 12), so the
+ * bits of alpha double per round with the precision following; after four rounds the exact
+ * N, D replace the determinants. 0 if still undecided after eight rounds. */
+static int beta_narrow(arb_t beta, line_state *st, slong goal)
+{
+    slong prec = st->prec;
+    for (slong round = 0; round < 8; round++) {
+        if (round > 0) {
+            slong bits = 2 * interval_bits(st->L->lo, st->L->hi) + 64;
+            alpha_refine(st, bits);
+            prec = FLINT_MAX(prec, bits + st->prec);
+        }
+        if (round == 4)
+            beta_exact(st);
+        beta_ball(beta, st, prec);
+        if (arb_is_finite(beta) && mag_cmp_2exp_si(arb_radref(beta), -goal) <= 0)
+            return 1;
+    }
+    return 0;
 }
 
 /* p(s) = sum_j q_j(s) N(s)^j D(s)^(n-j): q(s, N/D) with denominators cleared. */
@@ -360,7 +510,7 @@ static int gcd_real_free(line_state *st, slong k)
     arb_init(c);
     fmpq_init(w);
     for (slong round = 0; round < 4 && !ok; round++) {
-        slong prec = st->C->opts->prec << round;
+        slong prec = st->prec << round;
         fmpz_one(fmpq_numref(w));
         fmpz_one_2exp(fmpq_denref(w), (ulong)(prec / 2));
         cb_roots_refine(st->cv, st->k, w);
@@ -381,6 +531,75 @@ static int gcd_real_free(line_state *st, slong k)
     return ok;
 }
 
+/* Is psc_j(alpha) proved non-zero by the ball determinant? alpha is refined to 64, 128, 256
+ * bits (the determinant's enclosure widens with the ill-conditioning of the Sylvester matrix
+ * near a critical value). A "no" is not a proof of zero: the caller decides exactly. */
+static int sres_ball_nonzero(line_state *st, slong j)
+{
+    arb_t S, v;
+    arb_init(S);
+    arb_init(v);
+    int ok = 0;
+    for (slong bits = 64; bits <= 256 && !ok; bits *= 2) {
+        alpha_refine(st, bits);
+        slong prec = st->prec + 2 * bits;
+        arb_set_fmpq_interval(S, st->L->lo, st->L->hi, prec);
+        cb_ctopo_sres_coeff_arb(v, st->hf, j, j, S, prec);
+        ok = !arb_contains_zero(v);
+    }
+    arb_clear(v);
+    arb_clear(S);
+    return ok;
+}
+
+/* Is the single multiple root (alpha, beta), of multiplicity k + 1 in its fibre, a singular
+ * point? Where lc_t h(alpha) != 0 every point of the fibre is finite, and Teissier's lemma
+ * (f, f_t)_p = mu_p + (f, s - alpha)_p - 1 summed over the fibre gives
+ * ord_alpha Res_t(h, h_t) = mu + k, every other root being simple: the point is singular
+ * (mu >= 1) iff the k-th derivative of res vanishes at alpha too. Otherwise h_s(alpha, beta)
+ * is tried in ball arithmetic, then decided exactly as h_s(s, N/D) with denominators cleared. */
+static int beta_singular(line_state *st, const fmpz_poly_t res, slong k)
+{
+    const cb_ctopo_curve_struct *C = st->C;
+    const fmpz_poly_struct *r = st->cv->sqfree;
+    fmpz_poly_t q;
+    fmpz_poly_init(q);
+    int sing;
+    if (st->hf->len == C->h->len) {
+        fmpz_poly_set(q, res);
+        for (slong i = 0; i < k; i++)
+            fmpz_poly_derivative(q, q);
+        sing = cb_ctopo_alg_vanishes(q, r, st->L->lo, st->L->hi);
+    } else {
+        cb_bipoly_t d;
+        arb_t beta, S, y;
+        cb_bipoly_init(d);
+        arb_init(beta);
+        arb_init(S);
+        arb_init(y);
+        cb_bipoly_derivative_s(d, C->h);
+        sing = -1;
+        if (beta_narrow(beta, st, 64)) {
+            slong prec = FLINT_MAX(st->prec, 2 * interval_bits(st->L->lo, st->L->hi));
+            arb_set_fmpq_interval(S, st->L->lo, st->L->hi, prec);
+            cb_bipoly_eval_arb(y, d, S, beta, prec);
+            if (!arb_contains_zero(y))
+                sing = 0;
+        }
+        if (sing < 0) {
+            beta_exact(st);
+            compose_rational(q, d, st->beta_num, st->beta_den);
+            sing = cb_ctopo_alg_vanishes(q, r, st->L->lo, st->L->hi);
+        }
+        arb_clear(y);
+        arb_clear(S);
+        arb_clear(beta);
+        cb_bipoly_clear(d);
+    }
+    fmpz_poly_clear(q);
+    return sing;
+}
+
 /* Irrational alpha: gcd degree, single multiple root (or CB_ERR_UNSUPPORTED), its exact
  * properties. */
 static cb_status irrational_facts(line_state *st, cb_error *err)
@@ -388,7 +607,6 @@ static cb_status irrational_facts(line_state *st, cb_error *err)
     const cb_ctopo_curve_struct *C = st->C;
     const fmpz_poly_struct *r = st->cv->sqfree;
     const fmpq *lo = st->L->lo, *hi = st->L->hi;
-    slong prec = C->opts->prec;
     /* Where lc_t(h) vanishes the fibre h(alpha, t) has a lower degree (branches escape to
      * infinity, outside the box); its gcd structure is that of the truncation hf. */
     slong top = C->h->len - 1;
@@ -416,36 +634,32 @@ static cb_status irrational_facts(line_state *st, cb_error *err)
     else
         fmpz_poly_set(res, C->res);
     int multiple = n >= 2 && cb_ctopo_alg_vanishes(res, r, lo, hi);
-    fmpz_poly_clear(res);
     if (multiple) {
-        arb_t S, v;
         fmpz_poly_t p;
-        arb_init(S);
-        arb_init(v);
         fmpz_poly_init(p);
-        arb_set_fmpq_interval(S, lo, hi, prec);
         for (slong j = 1; j < n; j++) {
-            cb_ctopo_sres_coeff_arb(v, st->hf, j, j, S, prec);
-            if (!arb_contains_zero(v)) {
+            if (sres_ball_nonzero(st, j)) {
                 st->gcd_deg = j;
                 break;
             }
             cb_ctopo_sres_coeff(p, st->hf, j, j);
             if (!cb_ctopo_alg_vanishes(p, r, lo, hi)) {
                 st->gcd_deg = j;
+                fmpz_poly_scalar_mul_si(st->beta_den, p, j);
                 break;
             }
         }
         fmpz_poly_clear(p);
-        arb_clear(v);
-        arb_clear(S);
     }
     slong k = st->gcd_deg;
-    if (k == 0)
+    if (k == 0) {
+        fmpz_poly_clear(res);
         return CB_OK;
+    }
 
     /* gcd = psc_k (t - beta)^k  <=>  sres_{k,i} k^(k-i) psc_k^(k-i-1) = C(k,i) sres_{k,k-1}^(k-i)
-     * for i < k - 1: a single multiple root, of multiplicity k + 1. */
+     * for i < k - 1: a single multiple root, of multiplicity k + 1. A fold (k = 1) needs no
+     * proof and no exact subresultant. */
     fmpz_poly_t pk, pk1, a, b, e;
     fmpz_t bin;
     fmpz_poly_init(pk);
@@ -454,9 +668,20 @@ static cb_status irrational_facts(line_state *st, cb_error *err)
     fmpz_poly_init(b);
     fmpz_poly_init(e);
     fmpz_init(bin);
-    cb_ctopo_sres_coeff(pk, st->hf, k, k);
-    cb_ctopo_sres_coeff(pk1, st->hf, k, k - 1);
     int generic = 1;
+    cb_status stt = CB_OK;
+    /* Several multiple roots, or one of order > 2: if the gcd is proved free of real roots
+     * in [t0, t1] (cheap, ball arithmetic; such as two complex conjugate crossings of two
+     * circles), every real fibre root in the box is simple, nothing needs pinning and the exact subresultants
+     * of the identity below (determinants of order 2n - 1 - 2k, tens of seconds at t-degree
+     * 24) are skipped. */
+    if (k >= 2 && gcd_real_free(st, k))
+        goto done;
+    if (k >= 2) {
+        beta_exact(st);
+        fmpz_poly_scalar_divexact_si(pk, st->beta_den, k);
+        fmpz_poly_neg(pk1, st->beta_num);
+    }
     for (slong i = 0; i + 1 < k && generic; i++) {
         cb_ctopo_sres_coeff(a, st->hf, k, i);
         fmpz_poly_pow(e, pk, (ulong)(k - i - 1));
@@ -469,12 +694,6 @@ static cb_status irrational_facts(line_state *st, cb_error *err)
         fmpz_poly_sub(a, a, b);
         generic = cb_ctopo_alg_vanishes(a, r, lo, hi);
     }
-    cb_status stt = CB_OK;
-    if (!generic && gcd_real_free(st, k)) {
-        /* All the multiple roots are non-real or outside [t0, t1] (such as two complex
-         * conjugate crossings of two circles): every real fibre root in the box is simple. */
-        goto done;
-    }
     if (!generic) {
         stt = cb_error_set(err, CB_ERR_UNSUPPORTED,
                            "curve topology: critical fibre not in generic position (more than "
@@ -482,36 +701,30 @@ static cb_status irrational_facts(line_state *st, cb_error *err)
                            st->L->s);
         goto done;
     }
-    /* beta = N / D with N = -sres_{k,k-1}, D = k psc_k; exact questions about beta become
-     * questions about polynomials in s at alpha. */
-    fmpz_poly_neg(pk1, pk1);
-    fmpz_poly_scalar_mul_si(pk, pk, k);
     stt = state_pin_push(st, err);
     if (stt != CB_OK)
         goto done;
     pin_struct *p = st->pin;
     p->mult = k + 1;
-    cb_bipoly_t d;
-    cb_bipoly_init(d);
     for (int i = 0; i < 2 && !p->sides; i++) {
-        /* beta = t_i iff N - t_i D vanishes at alpha. */
+        if (!st->root_at[i])
+            continue;
+        /* beta = t_i iff N - t_i D vanishes at alpha (beta = N / D). */
         const fmpq *ti = i ? st->t1 : st->t0;
-        fmpz_poly_scalar_mul_fmpz(a, pk1, fmpq_denref(ti));
-        fmpz_poly_scalar_mul_fmpz(b, pk, fmpq_numref(ti));
+        beta_exact(st);
+        fmpz_poly_scalar_mul_fmpz(a, st->beta_num, fmpq_denref(ti));
+        fmpz_poly_scalar_mul_fmpz(b, st->beta_den, fmpq_numref(ti));
         fmpz_poly_sub(a, a, b);
-        if (st->root_at[i] && cb_ctopo_alg_vanishes(a, r, lo, hi)) {
+        if (cb_ctopo_alg_vanishes(a, r, lo, hi)) {
             p->sides = i ? CB_CTOPO_SIDE_T1 : CB_CTOPO_SIDE_T0;
             fmpq_set(p->lo, ti);
             fmpq_set(p->hi, ti);
         }
     }
-    cb_bipoly_derivative_s(d, C->h);
-    compose_rational(a, d, pk1, pk);
-    p->singular = cb_ctopo_alg_vanishes(a, r, lo, hi);
+    p->singular = beta_singular(st, res, k);
     /* On a repeated factor g (g | h): g(alpha, .) then has beta as a multiple root, the only
      * multiple root h(alpha, .) has; so it is Res_t(g, g_t)(alpha) = 0. */
     p->tangential = C->rep->len > 1 && cb_ctopo_alg_vanishes(C->rep_res, r, lo, hi);
-    cb_bipoly_clear(d);
 done:
     fmpz_clear(bin);
     fmpz_poly_clear(e);
@@ -519,6 +732,7 @@ done:
     fmpz_poly_clear(a);
     fmpz_poly_clear(pk1);
     fmpz_poly_clear(pk);
+    fmpz_poly_clear(res);
     return stt;
 }
 
@@ -540,26 +754,24 @@ static int pin_enclose(line_state *st, pin_struct *p, const fmpq_t w, slong prec
     }
     if (p->sides)
         return 1;
+    /* beta is not t0 or t1 here (proved exactly), so narrowing decides which side it is on. */
     arb_t beta;
     arf_t x;
     arb_init(beta);
     arf_init(x);
-    beta_ball(beta, st, prec);
-    int ok = arb_is_finite(beta);
-    if (ok) {
+    int ok = 0;
+    slong goal = neg_log2(w) + 3;
+    for (slong extra = 0; extra < 4 && ok == 0; extra++) {
+        if (!beta_narrow(beta, st, goal + 32 * extra))
+            break;
         arb_get_lbound_arf(x, beta, prec);
         fmpq_set_arf(p->lo, x);
         arb_get_ubound_arf(x, beta, prec);
         fmpq_set_arf(p->hi, x);
-        fmpq_t width;
-        fmpq_init(width);
-        fmpq_sub(width, p->hi, p->lo);
         if (fmpq_cmp(p->hi, st->t0) < 0 || fmpq_cmp(p->lo, st->t1) > 0)
             ok = -1;
-        else if (fmpq_cmp(width, w) > 0 || fmpq_cmp(p->lo, st->t0) < 0 ||
-                 fmpq_cmp(p->hi, st->t1) > 0)
-            ok = 0; /* too wide, or straddling a side it is not exactly on */
-        fmpq_clear(width);
+        else if (fmpq_cmp(p->lo, st->t0) >= 0 && fmpq_cmp(p->hi, st->t1) <= 0)
+            ok = 1;
     }
     arf_clear(x);
     arb_clear(beta);
@@ -580,16 +792,26 @@ static int partition(cb_ctopo_fibre_t F, line_state *st, const fmpq_t c, const f
     }
     if (depth >= st->C->opts->max_depth)
         return 0;
-    /* Split a little off the middle, at c + (d - c) 1000/2001: dyadic midpoints would put
-     * the cut exactly on the dyadic roots designed inputs love, where no edge test passes. */
-    fmpq_t m, r;
+    /* Cut at a dyadic point near the middle (small denominators keep the exact arithmetic
+     * cheap at any depth); the middle itself can be a root of a designed curve, where no edge
+     * test ever passes, so the first of 1/2, 3/8, 5/8, 7/16, 9/16 with a clear edge is taken. */
+    static const slong cut[5][2] = {{1, 1}, {3, 3}, {5, 3}, {7, 4}, {9, 4}};
+    fmpq_t m, len;
     fmpq_init(m);
-    fmpq_init(r);
-    fmpq_set_si(r, 1000, 2001);
-    fmpq_sub(m, d, c);
-    fmpq_mul(m, m, r);
-    fmpq_add(m, m, c);
-    fmpq_clear(r);
+    fmpq_init(len);
+    fmpq_sub(len, d, c);
+    for (int i = 0; i < 5; i++) {
+        fmpq_mul_si(m, len, cut[i][0]);
+        fmpq_div_2exp(m, m, (ulong)cut[i][1]);
+        fmpq_add(m, m, c);
+        if (edge_clear(st, m, prec))
+            break;
+        if (i == 4) {
+            fmpq_add(m, c, d);
+            fmpq_div_2exp(m, m, 1);
+        }
+    }
+    fmpq_clear(len);
     int ok = partition(F, st, c, m, depth + 1, prec) && partition(F, st, m, d, depth + 1, prec);
     fmpq_clear(m);
     return ok;
@@ -656,7 +878,7 @@ static int attempt(cb_ctopo_fibre_t F, line_state *st, slong att, cb_error *err,
 {
     const cb_ctopo_curve_struct *C = st->C;
     cb_ctopo_line_struct *L = st->L;
-    slong prec = C->opts->prec + 32 * att;
+    slong prec = st->prec + 32 * att;
     int fail = 0;
     fmpq_t c, d, tw;
     fmpq_init(c);
@@ -773,6 +995,9 @@ cb_status cb_ctopo_fibre_analyse(cb_ctopo_fibre_t F, const cb_ctopo_curve_struct
     fmpq_init(st.t1);
     fmpq_set(st.t0, C->t0);
     fmpq_set(st.t1, C->t1);
+    st.prec = C->prec;
+    fmpz_poly_init(st.beta_num);
+    fmpz_poly_init(st.beta_den);
     fmpq_sub(st.w, st.t1, st.t0);
     fmpq_div_2exp(st.w, st.w, 3);
     if (st.rational)
@@ -808,13 +1033,15 @@ cb_status cb_ctopo_fibre_analyse(cb_ctopo_fibre_t F, const cb_ctopo_curve_struct
     for (slong i = 0; i < st.n_fac; i++)
         cb_roots_clear(st.fac + i);
     flint_free(st.fac);
-    for (slong i = 0; i < st.n_deriv; i++) {
+    for (slong i = 0; i < st.n_deriv; i++)
         cb_bipoly_clear(st.deriv[i]);
-        cb_bipoly_clear(st.deriv_s[i]);
-    }
     flint_free(st.deriv);
-    flint_free(st.deriv_s);
+    for (slong i = 0; i < st.alloc_fib; i++)
+        arb_poly_clear(st.fib + i);
+    flint_free(st.fib);
     cb_bipoly_clear(st.hf);
+    fmpz_poly_clear(st.beta_num);
+    fmpz_poly_clear(st.beta_den);
     fmpq_clear(st.w);
     fmpq_clear(st.t0);
     fmpq_clear(st.t1);

@@ -1,5 +1,6 @@
-/* Certified curve topology (ssi/topo.c): designed curves in [0, 1]^2 with known topology, graph
- * invariants, subresultant identities, and error paths. */
+/* Certified curve topology (ssi/curve_topo.h): designed curves in [0, 1]^2 with known topology,
+ * the paper's Example 2 (appendix A) with phi = F(Q) from the implicitization, graph invariants,
+ * subresultant identities, and error paths. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -7,6 +8,8 @@
 
 #include "check.h"
 #include "ssi/curve_topo.h"
+#include "ssi/dixon.h"
+#include "ssi/implicit.h"
 
 typedef struct {
     const char *name;
@@ -45,6 +48,8 @@ static const designed_curve curves[] = {
     {"circle crossing the box", "(2*s)^2+(2*t)^2-1", 1, 0, 0, 0, 0, 2, 0},
     {"parabola tangent to the side t = t0 from below", "t+(2*s-1)^2", 1, 0, 1, 0, 0, 0, 0},
 };
+
+static const double unit_box[4] = {0, 1, 0, 1};
 
 /* A small parser for the designed curves (+, -, *, ^, parentheses, integers, s, t): FLINT
  * 2.9's fmpz_mpoly_set_str_pretty leaks memory, which LeakSanitizer would report. */
@@ -132,8 +137,8 @@ static int parse_poly(fmpz_mpoly_t out, const char *str, const fmpz_mpoly_ctx_t 
     return ps.ok && *ps.p == '\0';
 }
 
-/* Structural facts every topology graph must satisfy. */
-static int graph_ok(const cb_ctopo_t T, const char *name)
+/* Structural facts every topology graph must satisfy; box = {s0, s1, t0, t1}. */
+static int graph_ok(const cb_ctopo_t T, const char *name, const double box[4])
 {
     int ok = 1;
     slong deg_sum = 0;
@@ -156,7 +161,8 @@ static int graph_ok(const cb_ctopo_t T, const char *name)
     for (slong i = 0; i < T->n_vertices; i++) {
         const cb_ctopo_vertex_struct *v = T->vertex + i;
         deg_sum += v->degree;
-        int in_box = v->s >= -1e-12 && v->s <= 1 + 1e-12 && v->t >= -1e-12 && v->t <= 1 + 1e-12;
+        int in_box = v->s >= box[0] - 1e-12 && v->s <= box[1] + 1e-12 &&
+                     v->t >= box[2] - 1e-12 && v->t <= box[3] + 1e-12;
         CHECK(in_box, "%s: vertex %ld at (%g, %g) outside the box", name, (long)i, v->s, v->t);
         if (v->kind == CB_CTOPO_HELPING)
             CHECK(v->degree == 2, "%s: helping point %ld (%g, %g) has degree %ld", name, (long)i,
@@ -232,7 +238,7 @@ static void test_designed(void)
                       T->component_tangential[k], d->tangential);
             CHECK(T->has_repeated_factor == d->tangential, "%s: repeated factor flag %d",
                   d->name, T->has_repeated_factor);
-            graph_ok(T, d->name);
+            graph_ok(T, d->name, unit_box);
         }
         cb_ctopo_clear(T);
     }
@@ -391,7 +397,7 @@ static void test_random(check_rng *rng)
               cb_status_name(st), err.msg);
         if (st == CB_OK) {
             ok++;
-            graph_ok(T, name);
+            graph_ok(T, name, unit_box);
             slong ends = 0;
             for (slong i = 0; i < T->n_vertices; i++)
                 ends += T->vertex[i].degree;
@@ -410,10 +416,295 @@ static void test_random(check_rng *rng)
     fmpz_mpoly_ctx_clear(ctx);
 }
 
+/* x as a double, for printing and tolerance checks. */
+static double q_d(const fmpq_t x) { return fmpq_get_d(x); }
+
+/* Roots of the univariate p in [lo, hi], refined to width 2^-50, as doubles (at most 8). */
+static slong roots_d(double *out, const fmpz_poly_t p, const fmpq_t lo, const fmpq_t hi)
+{
+    cb_roots_t R;
+    fmpq_t w;
+    cb_roots_init(R);
+    fmpq_init(w);
+    fmpq_set_si(w, 1, 1);
+    fmpq_div_2exp(w, w, 50);
+    slong n = -1;
+    if (cb_roots_isolate(R, p, lo, hi, NULL) == CB_OK && R->n <= 8) {
+        n = R->n;
+        for (slong i = 0; i < n; i++) {
+            cb_roots_refine(R, i, w);
+            out[i] = 0.5 * (q_d(R->root[i].lo) + q_d(R->root[i].hi));
+        }
+    }
+    fmpq_clear(w);
+    cb_roots_clear(R);
+    return n;
+}
+
+/* Does the sorted list got[0 .. n) equal want[0 .. m) to tol? */
+static int same_list(const double *got, slong n, const double *want, slong m, double tol)
+{
+    if (n != m)
+        return 0;
+    for (slong i = 0; i < n; i++)
+        if (fabs(got[i] - want[i]) > tol)
+            return 0;
+    return 1;
+}
+
+/* Appendix A, Example 2: P from Example 1, Q(s, t) = [2st^2 + 2s, -s^2t^3 + s^2 - 3t^3 + 3,
+ * 2s^3t + 6t, s^2t^2 + s^2 + t^2 + 1] on [-1, 1] x [0, 2]; phi = F(Q) exactly (ssi/implicit.h,
+ * as in test_ssi_dixon.c). Checks: the s-critical values (roots of Res_t(phi, phi_t) in
+ * [-1, 1]) against the paper's isolating intervals; the paper's helping points, recomputed from
+ * our phi at the paper's own s-values (its interval ends, and -+1e-6 for the rational alpha2);
+ * the helping points of our topology that do not depend on eps or on how narrow the interval of
+ * alpha is (the branches away from the folds at t = 1); and the topology counts. */
+static void test_example2(void)
+{
+    static const struct {
+        int q, i, j;
+        double c;
+    } pt[] = {{0, 3, 0, -32}, {0, 1, 2, 96}, {0, 2, 0, 48}, {0, 1, 1, -96}, {0, 0, 2, -48},
+              {0, 1, 0, 6},   {0, 0, 1, 48}, {0, 0, 0, -11}, {1, 2, 1, 96}, {1, 0, 3, -32},
+              {1, 2, 0, -48}, {1, 1, 1, -96}, {1, 0, 2, 48}, {1, 1, 0, 48}, {1, 0, 1, 6},
+              {1, 0, 0, -11}, {2, 2, 0, 24}, {2, 0, 2, -24}, {2, 1, 0, -24}, {2, 0, 1, 24},
+              {3, 0, 0, 2}},
+      qt[] = {{0, 1, 2, 2}, {0, 1, 0, 2}, {1, 2, 3, -1}, {1, 2, 0, 1}, {1, 0, 3, -3},
+              {1, 0, 0, 3}, {2, 3, 1, 2}, {2, 0, 1, 6}, {3, 2, 2, 1}, {3, 2, 0, 1},
+              {3, 0, 2, 1}, {3, 0, 0, 1}};
+    double hp[64] = {0}, hq[64] = {0};
+    for (size_t k = 0; k < sizeof pt / sizeof *pt; k++)
+        hp[pt[k].q * 16 + pt[k].i * 4 + pt[k].j] = pt[k].c;
+    for (size_t k = 0; k < sizeof qt / sizeof *qt; k++)
+        hq[qt[k].q * 16 + qt[k].i * 4 + qt[k].j] = qt[k].c;
+    const double pbox[4] = {0, 1, 0, 1}, qbox[4] = {-1, 1, 0, 2};
+    cb_dixon_patch_t P, Q;
+    cb_dixon_pencil_t D;
+    cb_implicit_t F;
+    cb_phi_t ph;
+    cb_error err;
+    cb_dixon_patch_init(P);
+    cb_dixon_patch_init(Q);
+    cb_dixon_pencil_init(D);
+    cb_implicit_init(F);
+    cb_phi_init(ph);
+    int ok = cb_dixon_patch_set_power(P, 3, 3, hp, pbox, &err) == CB_OK &&
+             cb_dixon_patch_set_power(Q, 3, 3, hq, qbox, &err) == CB_OK &&
+             cb_dixon_pencil_set(D, P, &err) == CB_OK &&
+             cb_implicit_from_dixon(F, D, P, &err) == CB_OK &&
+             cb_phi_compute(ph, F, Q, &err) == CB_OK;
+    CHECK(ok, "example 2: phi = F(Q): %s", err.msg);
+    if (!ok)
+        goto out_phi;
+
+    fmpz_mpoly_ctx_t ctx;
+    fmpz_mpoly_t phi, phit, R;
+    cb_bipoly_t rb;
+    fmpq_t s0, s1, t0, t1, a, w;
+    fmpz_poly_t f;
+    fmpz_mpoly_ctx_init(ctx, 2, ORD_LEX);
+    fmpz_mpoly_init(phi, ctx);
+    fmpz_mpoly_init(phit, ctx);
+    fmpz_mpoly_init(R, ctx);
+    cb_bipoly_init(rb);
+    fmpq_init(s0);
+    fmpq_init(s1);
+    fmpq_init(t0);
+    fmpq_init(t1);
+    fmpq_init(a);
+    fmpq_init(w);
+    fmpz_poly_init(f);
+    for (slong i = 0; i <= ph->ds; i++)
+        for (slong j = 0; j <= ph->dt; j++) {
+            ulong e[2] = {(ulong)i, (ulong)j};
+            fmpz_mpoly_set_coeff_fmpz_ui(phi, ph->c + i * (ph->dt + 1) + j, e, ctx);
+        }
+    fmpq_set_si(s0, -1, 1);
+    fmpq_set_si(s1, 1, 1);
+    fmpq_set_si(t0, 0, 1);
+    fmpq_set_si(t1, 2, 1);
+
+    /* s-critical values: Res_t(phi, phi_t) in [-1, 1], exactly three; alpha2 = 0 exactly. */
+    fmpz_mpoly_derivative(phit, phi, 1, ctx);
+    fmpz_mpoly_resultant(R, phi, phit, 1, ctx);
+    cb_bipoly_set_fmpz_mpoly(rb, R, ctx);
+    cb_roots_t cv;
+    cb_roots_init(cv);
+    fmpq_set_si(w, 1, 1);
+    fmpq_div_2exp(w, w, 50);
+    CHECK(rb->len == 1 && cb_roots_isolate(cv, rb->c, s0, s1, &err) == CB_OK,
+          "example 2: resultant roots");
+    /* Four distinct real roots: the paper's three and one at s ~ -0.921961226 of multiplicity
+     * 4 (no sign change, invisible to a floating solver), over which the multiple roots of
+     * phi(s, .) are complex: no real critical point, checked on the topology below. */
+    CHECK(cv->n == 4, "example 2: %ld real roots of the resultant in [-1, 1], expected 4",
+          (long)cv->n);
+    if (cv->n == 4) {
+        fmpz_poly_t dr;
+        fmpz_poly_init(dr);
+        fmpz_poly_derivative(dr, rb->c);
+        cb_roots_refine(cv, 0, w);
+        CHECK(fabs(q_d(cv->root[0].lo) + 0.921961226081) < 1e-10 &&
+                  cb_ctopo_alg_vanishes(dr, cv->sqfree, cv->root[0].lo, cv->root[0].hi),
+              "example 2: extra root %.12f not the multiple root at -0.921961226081",
+              q_d(cv->root[0].lo));
+        fmpz_poly_clear(dr);
+    }
+    /* The paper's intervals, widened by 1e-10 (agreement to 1e-10). */
+    const double pap[3][2] = {{-942370651714277.0 / 4503599627370496.0,
+                               -15077930427428431.0 / 72057594037927936.0},
+                              {0, 0},
+                              {3860892779556277.0 / 18014398509481984.0,
+                               15443571118225109.0 / 72057594037927936.0}};
+    for (slong k = 0; k < 3 && cv->n == 4; k++) {
+        const cb_root_interval_struct *iv = cv->root + k + 1;
+        if (k == 1) {
+            CHECK(fmpq_is_zero(iv->lo) && fmpq_is_zero(iv->hi),
+                  "example 2: alpha2 not the exact rational 0: [%g, %g]", q_d(iv->lo),
+                  q_d(iv->hi));
+            continue;
+        }
+        cb_roots_refine(cv, k + 1, w);
+        double lo = q_d(iv->lo), hi = q_d(iv->hi);
+        printf("example 2: alpha%ld in [%.17g, %.17g]\n", (long)k + 1, lo, hi);
+        CHECK(lo >= pap[k][0] - 1e-10 && hi <= pap[k][1] + 1e-10,
+              "example 2: alpha%ld in [%.17g, %.17g], paper [%.17g, %.17g]", (long)k + 1, lo, hi,
+              pap[k][0], pap[k][1]);
+    }
+
+    /* The paper's helping points from our phi at the paper's s-values, to 1e-8. */
+    static const double help[6][4] = {{0.4824088532, 1.655782000},
+                                      {0.5915023911, 0.5915169779, 1.496790140, 1.496826202},
+                                      {0.4773526276, 0.9999999967, 1.000000003, 1.665001610},
+                                      {0.4824088532, 0.9999999994, 1.000000001, 1.655782000},
+                                      {0.5915016720, 0.5915176969, 1.496790139, 1.496826203},
+                                      {0.4773526276, 1.665001610}};
+    static const slong n_help[6] = {2, 4, 4, 4, 4, 2};
+    const slong sl[6][2] = {{-942370651714277, 52}, {-1, 0}, {3860892779556277, 54},
+                            {-15077930427428431, 56}, {1, 0}, {15443571118225109, 56}};
+    cb_bipoly_t hb;
+    cb_bipoly_init(hb);
+    cb_bipoly_set_fmpz_mpoly(hb, phi, ctx);
+    for (int i = 0; i < 6; i++) {
+        if (i == 1 || i == 4) {
+            fmpq_set_si(a, sl[i][0], 1000000); /* -+ eps, eps = 1e-6 */
+        } else {
+            fmpz_set_si(fmpq_numref(a), sl[i][0]);
+            fmpz_one_2exp(fmpq_denref(a), (ulong)sl[i][1]);
+        }
+        double got[8];
+        cb_bipoly_eval_s_fmpq(f, hb, a);
+        slong n = roots_d(got, f, t0, t1);
+        if (i == 1 || i == 4) {
+            /* At -+1e-6 the pairs of our exact roots are 1.5e-6 apart where the paper prints
+             * 1.46e-5 and 1.60e-5 (its values look like eps ~ 1e-5, and are not symmetric
+             * though phi's roots at -+eps agree to 1e-10): the eps-dependent points are not
+             * comparable. Their pair midpoints are (O(eps^2)): the t of the two nodes. */
+            const double *hv = help[i];
+            double want[2] = {0.5 * (hv[0] + hv[1]), 0.5 * (hv[2] + hv[3])};
+            double mid[2] = {n == 4 ? 0.5 * (got[0] + got[1]) : 0,
+                             n == 4 ? 0.5 * (got[2] + got[3]) : 0};
+            printf("example 2: s = %g: helping points %.10f %.10f %.10f %.10f\n", q_d(a),
+                   got[0], got[1], got[2], got[3]);
+            CHECK(same_list(mid, n == 4 ? 2 : 0, want, 2, 1e-8),
+                  "example 2: pair midpoints at s = %g: %.10f %.10f, paper %.10f %.10f",
+                  q_d(a), mid[0], mid[1], want[0], want[1]);
+            continue;
+        }
+        CHECK(same_list(got, n, help[i], n_help[i], 1e-8),
+              "example 2: %s helping points at s = %.10g: %ld roots, first %.10f",
+              i < 3 ? "left" : "right", q_d(a), (long)n, n > 0 ? got[0] : 0.0);
+    }
+    cb_bipoly_clear(hb);
+
+    /* The topology. */
+    cb_ctopo_opts opts;
+    cb_ctopo_t T;
+    cb_ctopo_opts_default(&opts);
+    cb_ctopo_init(T);
+    cb_status st = cb_ctopo_compute(T, phi, ctx, s0, s1, t0, t1, &opts, &err);
+    CHECK(st == CB_OK, "example 2 topology: %s: %s", cb_status_name(st), err.msg);
+    if (st == CB_OK) {
+        printf("example 2: lines %ld, components %ld, loops %ld, isolated %ld, singular %ld "
+               "(vertices %ld, edges %ld)\n",
+               (long)T->n_lines, (long)T->n_components, (long)T->n_loops, (long)T->n_isolated,
+               (long)T->n_singular, (long)T->n_vertices, (long)T->n_edges);
+        graph_ok(T, "example 2", qbox);
+        /* Our helping points next to alpha1 and alpha3 away from the fold at t = 1: at
+         * alpha1 the branches through 0.4824088532 and 1.655782000, at alpha3 through
+         * 0.4773526276 and 1.665001610 (their t moves by ~1e-16 over alpha's interval). */
+        static const double far[2][2] = {{0.4824088532, 1.655782000},
+                                         {0.4773526276, 1.665001610}};
+        for (int k = 0; k < 2; k++) {
+            double s_alpha = k ? 0.2143226030 : -0.2092483191;
+            slong found[2] = {0, 0};
+            for (slong i = 0; i < T->n_vertices; i++) {
+                const cb_ctopo_vertex_struct *v = T->vertex + i;
+                if (v->kind != CB_CTOPO_HELPING || fabs(v->s - s_alpha) > 1e-9)
+                    continue;
+                for (int j = 0; j < 2; j++)
+                    found[j] += fabs(v->t - far[k][j]) < 1e-8;
+            }
+            CHECK(found[0] == 2 && found[1] == 2,
+                  "example 2: helping points at alpha%d: %ld and %ld of 2 found", 2 * k + 1,
+                  (long)found[0], (long)found[1]);
+        }
+        /* Fig. 14: two arcs crossing the box from s = -1 to s = 1 (near t = 0.48 and 1.66)
+         * and a loop born at alpha1 (fold at t = 1) and closing at alpha3 (fold at t = 1)
+         * that crosses both arcs at s = alpha2 = 0, in the two nodes (t ~ 0.5915097 and
+         * 1.4968082, degree 4): one component touching the sides, no loop of its own, two
+         * singular points. The critical points are exactly over alpha1, alpha2, alpha3. */
+        CHECK(T->n_components == 1 && T->n_loops == 0 && T->n_isolated == 0 &&
+                  T->n_singular == 2,
+              "example 2: components %ld loops %ld isolated %ld singular %ld, expected 1 0 0 2",
+              (long)T->n_components, (long)T->n_loops, (long)T->n_isolated,
+              (long)T->n_singular);
+        slong folds = 0, nodes = 0, other = 0;
+        for (slong i = 0; i < T->n_vertices; i++) {
+            const cb_ctopo_vertex_struct *v = T->vertex + i;
+            if (v->kind != CB_CTOPO_CRITICAL)
+                continue;
+            const cb_ctopo_line_struct *L = T->line + v->line;
+            int fold = !v->singular && v->degree == 2 && fabs(v->t - 1) < 1e-2 &&
+                       (fabs(L->s + 0.2092483191) < 1e-9 || fabs(L->s - 0.2143226030) < 1e-9);
+            int node = v->singular && v->degree == 4 && fmpq_is_zero(L->lo) &&
+                       fmpq_is_zero(L->hi) &&
+                       (fabs(v->t - 0.5915097) < 1e-2 || fabs(v->t - 1.4968082) < 1e-2);
+            folds += fold;
+            nodes += node;
+            other += !fold && !node;
+        }
+        CHECK(folds == 2 && nodes == 2 && other == 0,
+              "example 2: critical points: %ld folds, %ld nodes, %ld others; expected 2, 2, 0",
+              (long)folds, (long)nodes, (long)other);
+    }
+    cb_ctopo_clear(T);
+    cb_roots_clear(cv);
+    fmpz_poly_clear(f);
+    fmpq_clear(w);
+    fmpq_clear(a);
+    fmpq_clear(t1);
+    fmpq_clear(t0);
+    fmpq_clear(s1);
+    fmpq_clear(s0);
+    cb_bipoly_clear(rb);
+    fmpz_mpoly_clear(R, ctx);
+    fmpz_mpoly_clear(phit, ctx);
+    fmpz_mpoly_clear(phi, ctx);
+    fmpz_mpoly_ctx_clear(ctx);
+out_phi:
+    cb_phi_clear(ph);
+    cb_implicit_clear(F);
+    cb_dixon_pencil_clear(D);
+    cb_dixon_patch_clear(Q);
+    cb_dixon_patch_clear(P);
+}
+
 int main(void)
 {
     check_rng rng = {20240607};
     test_designed();
+    test_example2();
     test_subresultant(&rng);
     test_errors();
     test_random(&rng);
