@@ -6,5 +6,6 @@
 int cb_cli_info(int argc, char **argv);
 int cb_cli_model(int argc, char **argv);
 int cb_cli_check(int argc, char **argv);
+int cb_cli_ssi(int argc, char **argv);
 
 #endif

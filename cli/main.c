@@ -18,6 +18,7 @@ static void usage(FILE *out)
             "                as STEP (-o FILE.step)\n"
             "  check MESH    check that a mesh (.stl, .obj, .ply, .off) is closed, manifold,\n"
             "                outward and free of self-intersections; print its volume\n"
+            "  ssi A B       intersection curves of the faces of two STEP models\n"
             "\n"
             "Run 'colibri COMMAND --help' for the options of a command.\n"
             "Exit status: 0 success, 1 the input was rejected or the work failed, 2 bad usage.\n");
@@ -44,6 +45,8 @@ int main(int argc, char **argv)
         return cb_cli_model(argc - 1, argv + 1);
     if (!strcmp(cmd, "check"))
         return cb_cli_check(argc - 1, argv + 1);
+    if (!strcmp(cmd, "ssi"))
+        return cb_cli_ssi(argc - 1, argv + 1);
     fprintf(stderr, "colibri: unknown command '%s'\n", cmd);
     usage(stderr);
     return 2;

@@ -1,0 +1,520 @@
+/* clip.c — lifting traced curves to 3D, refining points onto both surfaces, and clipping to
+ * the implicitised patch's parameter box (paper section 4.4). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ssi/inversion.h"
+#include "ssi/ssi.h"
+
+/* --------------------------------------------------------------- pieces -------------------- */
+
+void _cb_ssi_piece_init(_cb_ssi_piece *p) { memset(p, 0, sizeof(*p)); }
+
+void _cb_ssi_piece_clear(_cb_ssi_piece *p)
+{
+    free(p->pt);
+    free(p->xyz);
+    _cb_ssi_piece_init(p);
+}
+
+void _cb_ssi_piece_push(_cb_ssi_piece *p, const _cb_ssi_pq *q, const double X[3])
+{
+    if (p->n == p->alloc) {
+        p->alloc = p->alloc ? 2 * p->alloc : 32;
+        p->pt = realloc(p->pt, (size_t)p->alloc * sizeof(*p->pt));
+        p->xyz = realloc(p->xyz, (size_t)p->alloc * 3 * sizeof(double));
+    }
+    p->pt[p->n] = *q;
+    memcpy(p->xyz + 3 * p->n, X, 3 * sizeof(double));
+    p->n++;
+}
+
+void _cb_ssi_piece_set_init(_cb_ssi_piece_set *ps)
+{
+    ps->n = ps->alloc = 0;
+    ps->p = NULL;
+}
+
+void _cb_ssi_piece_set_clear(_cb_ssi_piece_set *ps)
+{
+    for (slong i = 0; i < ps->n; i++)
+        _cb_ssi_piece_clear(ps->p + i);
+    free(ps->p);
+    _cb_ssi_piece_set_init(ps);
+}
+
+_cb_ssi_piece *_cb_ssi_piece_set_add(_cb_ssi_piece_set *ps)
+{
+    if (ps->n == ps->alloc) {
+        ps->alloc = ps->alloc ? 2 * ps->alloc : 8;
+        ps->p = realloc(ps->p, (size_t)ps->alloc * sizeof(*ps->p));
+    }
+    _cb_ssi_piece_init(ps->p + ps->n);
+    return ps->p + ps->n++;
+}
+
+/* --------------------------------------------------------------- evaluation ---------------- */
+
+/* Point and first derivatives of a Dixon patch at local (u, v), in the polynomial form (valid
+ * outside [0,1]^2 too, where the continuation of an outside point needs it). */
+static void patch_eval(double X[3], double Xu[3], double Xv[3], const cb_dixon_patch_struct *P,
+                       double u, double v)
+{
+    slong m = P->m, n = P->n, blk = (m + 1) * (n + 1);
+    double val[4], du[4], dv[4];
+    for (int q = 0; q < 4; q++) {
+        const double *c = P->cd + q * blk;
+        double f = 0, fu = 0, fv = 0;
+        for (slong i = m; i >= 0; i--) {
+            double r = 0, rv = 0;
+            for (slong j = n; j >= 0; j--) {
+                rv = rv * v + r;
+                r = r * v + c[i * (n + 1) + j];
+            }
+            fu = fu * u + f;
+            f = f * u + r;
+            fv = fv * u + rv;
+        }
+        val[q] = f;
+        du[q] = fu;
+        dv[q] = fv;
+    }
+    double w = val[3];
+    for (int k = 0; k < 3; k++) {
+        X[k] = val[k] / w;
+        if (Xu)
+            Xu[k] = (du[k] - X[k] * du[3]) / w;
+        if (Xv)
+            Xv[k] = (dv[k] - X[k] * dv[3]) / w;
+    }
+}
+
+void _cb_ssi_lift(double X[3], const void *geom, double sigma, double tau)
+{
+    const _cb_ssi_pair_geom *g = geom;
+    patch_eval(X, NULL, NULL, g->q, sigma, tau);
+}
+
+static void p_eval(double X[3], double Xu[3], double Xv[3], const _cb_ssi_pair_geom *g,
+                   double u, double v)
+{
+    if (g->p_analytic) {
+        double d[6][3];
+        cb_analytic_eval_derivs(d, &g->an, u, v);
+        memcpy(X, d[0], sizeof(d[0]));
+        memcpy(Xu, d[1], sizeof(d[1]));
+        memcpy(Xv, d[2], sizeof(d[2]));
+    } else {
+        patch_eval(X, Xu, Xv, g->p, u, v);
+    }
+}
+
+static double wrap_near(double x, double ref, double period)
+{
+    return period > 0 ? x + period * nearbyint((ref - x) / period) : x;
+}
+
+/* Parameters of X on the analytic surface (closed forms in the local frame); angular ones the
+ * lift nearest ref (or in [range lo, lo + 2 pi) without ref). */
+void _cb_ssi_analytic_invert(double uv[2], const cb_analytic_surface *a, const double X[3])
+{
+    double l[3];
+    cb_frame_to_local(l, &a->frame, X);
+    double rho = hypot(l[0], l[1]);
+    switch (a->kind) {
+    case CB_ANALYTIC_PLANE:
+        uv[0] = l[0];
+        uv[1] = l[1];
+        break;
+    case CB_ANALYTIC_CYLINDER:
+        uv[0] = atan2(l[1], l[0]);
+        uv[1] = l[2];
+        break;
+    case CB_ANALYTIC_CONE:
+        uv[0] = atan2(l[1], l[0]);
+        uv[1] = l[2];
+        if (a->r1 + l[2] * tan(a->angle) < 0)
+            uv[0] += CB_SSI_PI;
+        break;
+    case CB_ANALYTIC_SPHERE:
+        uv[0] = atan2(l[1], l[0]);
+        uv[1] = atan2(l[2], rho);
+        break;
+    case CB_ANALYTIC_TORUS:
+        uv[0] = atan2(l[1], l[0]);
+        uv[1] = atan2(l[2], rho - a->r1);
+        break;
+    case CB_ANALYTIC_ELLIPSOID:
+        uv[0] = atan2(l[1] / a->r2, l[0] / a->r1);
+        uv[1] = atan2(l[2] / a->r3, hypot(l[0] / a->r1, l[1] / a->r2));
+        break;
+    }
+}
+
+static void analytic_invert(double uv[2], const _cb_ssi_pair_geom *g, const double X[3],
+                            const double *ref)
+{
+    _cb_ssi_analytic_invert(uv, &g->an, X);
+    for (int i = 0; i < 2; i++) {
+        double per = g->an_period[i];
+        if (per <= 0)
+            continue;
+        double r = ref ? ref[i] : (isfinite(g->an_range[2 * i]) ? g->an_range[2 * i] + CB_SSI_PI : 0);
+        uv[i] = wrap_near(uv[i], r, per);
+    }
+}
+
+/* --------------------------------------------------------------- refinement ---------------- */
+
+/* Gauss-Newton with minimum-norm steps on r = P(u, v) - Q(s, t) over the free parameters
+ * (bits of pq->fixed held). Returns |r| at the end; X the midpoint. */
+static double refine(_cb_ssi_pq *pq, double X[3], const _cb_ssi_pair_geom *g)
+{
+    double best = HUGE_VAL, x[4] = {pq->uv[0], pq->uv[1], pq->st[0], pq->st[1]}, xb[4];
+    memcpy(xb, x, sizeof x);
+    for (int it = 0; it < 40; it++) {
+        double P[3], Pu[3], Pv[3], Q[3], Qs[3], Qt[3], r[3];
+        p_eval(P, Pu, Pv, g, x[0], x[1]);
+        patch_eval(Q, Qs, Qt, g->q, x[2], x[3]);
+        for (int k = 0; k < 3; k++)
+            r[k] = P[k] - Q[k];
+        double nr = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+        if (!(nr < best)) {
+            if (it > 0)
+                break;
+        } else {
+            best = nr;
+            memcpy(xb, x, sizeof x);
+            for (int k = 0; k < 3; k++)
+                X[k] = 0.5 * (P[k] + Q[k]);
+        }
+        if (nr <= 1e-5 * g->tol)
+            break;
+        double J[3][4];
+        for (int k = 0; k < 3; k++) {
+            J[k][0] = Pu[k];
+            J[k][1] = Pv[k];
+            J[k][2] = -Qs[k];
+            J[k][3] = -Qt[k];
+        }
+        for (int c = 0; c < 4; c++)
+            if (pq->fixed & (1u << c))
+                for (int k = 0; k < 3; k++)
+                    J[k][c] = 0;
+        /* (J J^T + mu I) y = r, step = -J^T y: the least change of parameters that removes the
+         * residual to first order; mu keeps tangential contacts (rank-deficient J) finite. */
+        double A[3][3], tr = 0;
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++) {
+                double sum = 0;
+                for (int c = 0; c < 4; c++)
+                    sum += J[a][c] * J[b][c];
+                A[a][b] = sum;
+            }
+        tr = A[0][0] + A[1][1] + A[2][2];
+        for (int a = 0; a < 3; a++)
+            A[a][a] += 1e-14 * tr + 1e-300;
+        double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
+                     A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+                     A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+        if (det == 0 || !isfinite(det))
+            break;
+        double y[3];
+        for (int c = 0; c < 3; c++) {
+            double M[3][3];
+            memcpy(M, A, sizeof M);
+            for (int k = 0; k < 3; k++)
+                M[k][c] = r[k];
+            y[c] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
+                    M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
+                    M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) /
+                   det;
+        }
+        for (int c = 0; c < 4; c++)
+            x[c] -= J[0][c] * y[0] + J[1][c] * y[1] + J[2][c] * y[2];
+        /* Q stays in its patch box: the tracer's curve is inside it. */
+        for (int c = 2; c < 4; c++)
+            x[c] = x[c] < 0 ? 0 : (x[c] > 1 ? 1 : x[c]);
+    }
+    pq->uv[0] = xb[0];
+    pq->uv[1] = xb[1];
+    pq->st[0] = xb[2];
+    pq->st[1] = xb[3];
+    return best;
+}
+
+/* --------------------------------------------------------------- inside P's box ------------ */
+
+static const double PARAM_EPS = 1e-10;
+
+static int analytic_inside(const _cb_ssi_pair_geom *g, const double uv[2])
+{
+    for (int i = 0; i < 2; i++) {
+        double lo = g->an_range[2 * i], hi = g->an_range[2 * i + 1], per = g->an_period[i];
+        double eps = PARAM_EPS * (1 + fabs(uv[i]));
+        if (per > 0 && isfinite(lo)) {
+            if (hi - lo >= per - eps)
+                continue;
+            double x = lo + fmod(fmod(uv[i] - lo, per) + per, per);
+            if (!(x <= hi + eps || x >= lo + per - eps))
+                return 0;
+        } else if (uv[i] < lo - eps || uv[i] > hi + eps) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static int inside_p(const _cb_ssi_pair_geom *g, const _cb_ssi_pq *pq, double gap)
+{
+    if (gap > 10 * g->tol)
+        return 0;
+    if (g->p_analytic)
+        return analytic_inside(g, pq->uv);
+    for (int i = 0; i < 2; i++)
+        if (pq->uv[i] < -PARAM_EPS || pq->uv[i] > 1 + PARAM_EPS)
+            return 0;
+    return 1;
+}
+
+/* Boundary of P's box crossed between a (inside) and b (outside): the crossing with the least
+ * interpolation fraction. Sets *dir (0 u, 1 v), *val and returns the fraction, or -1. */
+static double crossing(int *dir, double *val, const _cb_ssi_pair_geom *g, const _cb_ssi_pq *a,
+                       const _cb_ssi_pq *b)
+{
+    double best = -1;
+    for (int i = 0; i < 2; i++) {
+        double xa = a->uv[i], xb = b->uv[i];
+        if (xa == xb)
+            continue;
+        double lo = g->p_analytic ? g->an_range[2 * i] : 0;
+        double hi = g->p_analytic ? g->an_range[2 * i + 1] : 1;
+        double per = g->p_analytic ? g->an_period[i] : 0;
+        double cand[6];
+        int nc = 0;
+        if (per > 0 && isfinite(lo)) {
+            if (hi - lo >= per - PARAM_EPS)
+                continue;
+            double k = floor((xa - lo) / per);
+            for (int d = -1; d <= 1; d++) {
+                cand[nc++] = lo + (k + d) * per;
+                cand[nc++] = hi + (k + d) * per;
+            }
+        } else {
+            if (isfinite(lo))
+                cand[nc++] = lo;
+            if (isfinite(hi))
+                cand[nc++] = hi;
+        }
+        for (int c = 0; c < nc; c++) {
+            double f = (cand[c] - xa) / (xb - xa);
+            if (f >= 0 && f <= 1 && (best < 0 || f < best)) {
+                best = f;
+                *dir = i;
+                *val = cand[c];
+            }
+        }
+    }
+    return best;
+}
+
+/* The point where the curve leaves P's box between samples a (inside) and b (outside),
+ * refined onto the boundary; a when that fails. */
+static void split_point(_cb_ssi_pq *out, double X[3], double *gap, const _cb_ssi_pair_geom *g,
+                        const _cb_ssi_pq *a, const double Xa[3], double gap_a,
+                        const _cb_ssi_pq *b)
+{
+    int dir = 0;
+    double val = 0, f = crossing(&dir, &val, g, a, b);
+    *out = *a;
+    memcpy(X, Xa, 3 * sizeof(double));
+    *gap = gap_a;
+    if (f < 0)
+        return;
+    _cb_ssi_pq s;
+    for (int i = 0; i < 2; i++) {
+        s.uv[i] = a->uv[i] + f * (b->uv[i] - a->uv[i]);
+        s.st[i] = a->st[i] + f * (b->st[i] - a->st[i]);
+    }
+    s.uv[dir] = val;
+    s.fixed = 1u << dir;
+    double Xs[3], gs = refine(&s, Xs, g);
+    if (gs <= g->tol) {
+        *out = s;
+        memcpy(X, Xs, sizeof Xs);
+        *gap = gs;
+    }
+}
+
+/* --------------------------------------------------------------- one traced curve ---------- */
+
+typedef struct {
+    _cb_ssi_pq pq;
+    double X[3], gap;
+    int in;
+} sample;
+
+/* Initial (u, v) on P of the point X: analytic closed form, or Dixon inversion (an inside
+ * preimage preferred), or for a planar patch the nearest point of a coarse grid. */
+static void p_start(double uv[2], const _cb_ssi_pair_geom *g, const double X[3])
+{
+    if (g->p_analytic) {
+        analytic_invert(uv, g, X, NULL);
+        return;
+    }
+    uv[0] = uv[1] = 0.5;
+    if (g->p_pencil) {
+        cb_inversion_params par;
+        cb_inversion_params_default(&par);
+        par.dist_tol = 1e3 * g->tol;
+        cb_inversion_t inv;
+        cb_inversion_init(inv);
+        cb_error err;
+        if (cb_inversion_solve(inv, g->p_pencil, g->p, X, &par, &err) == CB_OK && inv->n > 0) {
+            slong k = 0;
+            for (slong i = 0; i < inv->n; i++)
+                if (inv->pt[i].inside && (!inv->pt[k].inside || inv->pt[i].dist < inv->pt[k].dist))
+                    k = i;
+            /* Solutions are in the caller's domain; the pair works in [0,1]^2. */
+            const double *d = g->p->domain;
+            uv[0] = (inv->pt[k].u - d[0]) / (d[1] - d[0]);
+            uv[1] = (inv->pt[k].v - d[2]) / (d[3] - d[2]);
+            cb_inversion_clear(inv);
+            return;
+        }
+        cb_inversion_clear(inv);
+    }
+    double best = HUGE_VAL;
+    for (int i = 0; i <= 16; i++)
+        for (int j = 0; j <= 16; j++) {
+            double P[3];
+            patch_eval(P, NULL, NULL, g->p, i / 16.0, j / 16.0);
+            double d = (P[0] - X[0]) * (P[0] - X[0]) + (P[1] - X[1]) * (P[1] - X[1]) +
+                       (P[2] - X[2]) * (P[2] - X[2]);
+            if (d < best) {
+                best = d;
+                uv[0] = i / 16.0;
+                uv[1] = j / 16.0;
+            }
+        }
+}
+
+/* The section 4.4 decision for a spline P: X lies on the trimmed patch iff the Dixon
+ * inversion has a solution inside the box. Planar patches (no pencil) keep the Newton
+ * decision already made. */
+static int keep_piece(const _cb_ssi_pair_geom *g, const double X[3])
+{
+    if (g->p_analytic || !g->p_pencil)
+        return 1;
+    cb_inversion_params par;
+    cb_inversion_params_default(&par);
+    par.dist_tol = 100 * g->tol;
+    cb_inversion_t inv;
+    cb_inversion_init(inv);
+    cb_error err;
+    int in = 1;
+    if (cb_inversion_solve(inv, g->p_pencil, g->p, X, &par, &err) == CB_OK)
+        in = inv->inside;
+    cb_inversion_clear(inv);
+    return in;
+}
+
+static void emit(_cb_ssi_piece_set *out, const sample *S, slong a, slong b, const sample *pre,
+                 const sample *post, int closed, int tangential, const _cb_ssi_pair_geom *g)
+{
+    slong mid = (a + b) / 2;
+    if (!keep_piece(g, S[mid].X))
+        return;
+    _cb_ssi_piece *p = _cb_ssi_piece_set_add(out);
+    p->closed = closed;
+    p->tangential = tangential;
+    if (pre) {
+        _cb_ssi_piece_push(p, &pre->pq, pre->X);
+        p->gap = FLINT_MAX(p->gap, pre->gap);
+    }
+    for (slong i = a; i <= b; i++) {
+        _cb_ssi_piece_push(p, &S[i].pq, S[i].X);
+        p->gap = FLINT_MAX(p->gap, S[i].gap);
+    }
+    if (post) {
+        _cb_ssi_piece_push(p, &post->pq, post->X);
+        p->gap = FLINT_MAX(p->gap, post->gap);
+    }
+}
+
+void _cb_ssi_clip(_cb_ssi_piece_set *out, const _cb_ssi_trace_set *ts,
+                  const _cb_ssi_pair_geom *g)
+{
+    for (slong c = 0; c < ts->n; c++) {
+        const _cb_ssi_trace_curve *tc = ts->c + c;
+        slong n = tc->n;
+        if (n == 0)
+            continue;
+        sample *S = malloc((size_t)(n + 1) * sizeof(sample));
+        for (slong i = 0; i < n; i++) {
+            double X[3];
+            patch_eval(X, NULL, NULL, g->q, tc->st[2 * i], tc->st[2 * i + 1]);
+            _cb_ssi_pq pq = {{0, 0}, {tc->st[2 * i], tc->st[2 * i + 1]}, tc->fixed[i]};
+            if (i == 0 || !(S[i - 1].gap <= 10 * g->tol))
+                p_start(pq.uv, g, X);
+            else if (g->p_analytic)
+                analytic_invert(pq.uv, g, X, S[i - 1].pq.uv);
+            else
+                memcpy(pq.uv, S[i - 1].pq.uv, sizeof pq.uv);
+            S[i].gap = refine(&pq, S[i].X, g);
+            S[i].pq = pq;
+            S[i].in = inside_p(g, &pq, S[i].gap);
+        }
+        if (tc->isolated) {
+            if (S[0].in && keep_piece(g, S[0].X)) {
+                _cb_ssi_piece *p = _cb_ssi_piece_set_add(out);
+                p->isolated = p->tangential = 1;
+                _cb_ssi_piece_push(p, &S[0].pq, S[0].X);
+                p->gap = S[0].gap;
+            }
+            free(S);
+            continue;
+        }
+        slong all_in = 1;
+        for (slong i = 0; i < n; i++)
+            all_in &= S[i].in;
+        if (all_in) {
+            emit(out, S, 0, n - 1, NULL, NULL, tc->closed, tc->tangential, g);
+            free(S);
+            continue;
+        }
+        if (tc->closed) {
+            /* Rotate the loop (its last point repeats the first) to start outside. */
+            slong k = 0;
+            while (S[k].in)
+                k++;
+            sample *R = malloc((size_t)n * sizeof(sample));
+            for (slong i = 0; i < n - 1; i++)
+                R[i] = S[(k + i) % (n - 1)];
+            R[n - 1] = R[0];
+            free(S);
+            S = R;
+        }
+        for (slong i = 0; i < n;) {
+            if (!S[i].in) {
+                i++;
+                continue;
+            }
+            slong j = i;
+            while (j + 1 < n && S[j + 1].in)
+                j++;
+            sample pre, post;
+            if (i > 0)
+                split_point(&pre.pq, pre.X, &pre.gap, g, &S[i].pq, S[i].X, S[i].gap,
+                            &S[i - 1].pq);
+            if (j + 1 < n)
+                split_point(&post.pq, post.X, &post.gap, g, &S[j].pq, S[j].X, S[j].gap,
+                            &S[j + 1].pq);
+            emit(out, S, i, j, i > 0 ? &pre : NULL, j + 1 < n ? &post : NULL, 0,
+                 tc->tangential, g);
+            i = j + 1;
+        }
+        free(S);
+    }
+}

@@ -1,0 +1,278 @@
+/* ssi.h — intersection curves of two surfaces: the driver of the topology-guaranteed SSI
+ * (Yang, Jia, Yan, ACM TOG 2023, sections 4.1, 4.4, 5.3, 5.4, appendix B; ssi-primer 7-8).
+ *
+ * Pipeline for two surfaces A and B (ssi_pairs.c):
+ *   1. Bezier extraction of the spline side(s); OBB culling of patch pairs (section 4.1).
+ *   2. One side, P, is implicitised: an analytic surface by its exact equation (section 5.3);
+ *      of two splines the one of lower patch bidegree, per Bezier patch (Dixon, ssi/implicit.h).
+ *      The other side, Q, is parameterised: phi(s, t) = F(Q(s, t)) per patch pair.
+ *   3. A patch pair whose Bernstein coefficients of phi have one strict sign has no
+ *      intersection (proved). Otherwise cb_ctopo_compute gives the certified topology graph of
+ *      phi = 0 in Q's patch box.
+ *   4. Tracing (trace.c): every monotone branch between its vertices, in the order the graph
+ *      certifies; chains through degree-2 vertices.
+ *   5. Lifting, refinement onto both surfaces and clipping to P's parameter box (clip.c,
+ *      section 4.4): split where P's parameters leave the box, keep pieces whose representative
+ *      point inverts inside (Dixon inversion for spline patches, the own parameters for
+ *      analytic surfaces).
+ *   6. Stitching (ssi_stitch.c): pieces of all patch pairs joined across patch boundaries into
+ *      maximal curves, duplicates on shared boundaries removed, in patch-pair index order, so
+ *      the output does not depend on the number of threads.
+ * A patch pair the topology stage cannot certify (CB_ERR_UNSUPPORTED, CB_ERR_NUMERIC, or phi
+ * of a degree above opts.max_phi_degree) is listed in the result, never dropped silently.
+ *
+ * What is not done: trimming loops of faces (curves are clipped to the faces' parameter boxes),
+ * analytic/analytic pairs, surfaces of revolution and extrusion. */
+#ifndef CB_SSI_SSI_H
+#define CB_SSI_SSI_H
+
+#include "brep/analytic.h"
+#include "brep/nurbs.h"
+#include "brep/topo.h"
+#include "ssi/curve_topo.h"
+#include "ssi/dixon.h"
+
+/* pi to double precision (C11 has no M_PI). */
+#define CB_SSI_PI 3.14159265358979323846
+
+/* ---------------------------------------------------------------- input surfaces ----------- */
+
+typedef enum { CB_SSI_ANALYTIC, CB_SSI_NURBS } cb_ssi_surface_kind;
+
+/* A surface to intersect. The NURBS surface is borrowed (it must outlive the call). The
+ * analytic surface is restricted to range = {u0, u1, v0, v1}, +-HUGE_VAL for an unbounded
+ * direction; an angular direction (u of all but the plane, v of the torus) with
+ * u1 - u0 >= 2 pi is the full turn and is never clipped. */
+typedef struct {
+    cb_ssi_surface_kind kind;
+    cb_analytic_surface analytic;
+    double range[4];
+    const cb_nurbs_surface_struct *nurbs;
+} cb_ssi_surface;
+
+void cb_ssi_surface_set_analytic(cb_ssi_surface *S, const cb_analytic_surface *a,
+                                 const double range[4]);
+void cb_ssi_surface_set_nurbs(cb_ssi_surface *S, const cb_nurbs_surface_t s);
+
+/* ---------------------------------------------------------------- options ------------------ */
+
+typedef struct {
+    double tol;   /* every output point is within tol of each surface; <= 0: 1e-6 times the
+                     model size (diagonal of the box of both control nets) */
+    double chord; /* largest distance of a polyline chord's midpoint from the curve (sagitta);
+                     <= 0: 1e-3 times the model size */
+    int threads;  /* patch pairs run on at most this many threads (0: all, 1: serial) */
+    slong max_phi_degree; /* pairs whose phi has a degree in s or t above this are reported
+                             not certified (CB_ERR_UNSUPPORTED) without running the topology
+                             stage; default 12, the bidegree a torus gives with a bicubic
+                             patch. Raise it as the topology stage scales. */
+    cb_ctopo_opts topo;   /* passed to cb_ctopo_compute; defaults of cb_ctopo_opts_default */
+} cb_ssi_opts;
+
+void cb_ssi_opts_default(cb_ssi_opts *o);
+
+/* ---------------------------------------------------------------- result ------------------- */
+
+typedef struct {
+    double xyz[3];
+    double uv_a[2]; /* parameters on A */
+    double uv_b[2]; /* parameters on B */
+} cb_ssi_point;
+
+/* A maximal intersection curve: a polyline whose points all lie within tol of both surfaces.
+ * closed: the last point equals the first (stored twice). Curves that meet at a node share
+ * that end point exactly. tangential: the surfaces touch along the whole curve (it lies on a
+ * repeated factor of phi). */
+typedef struct {
+    slong n;
+    cb_ssi_point *pt;
+    int closed, tangential;
+    int face_a, face_b; /* faces of cb_ssi_bodies; -1 for cb_ssi_surfaces */
+} cb_ssi_curve;
+
+/* An isolated intersection point: always a contact of the two surfaces (tangential = 1). */
+typedef struct {
+    cb_ssi_point p;
+    int tangential;
+    int face_a, face_b;
+} cb_ssi_isolated;
+
+/* A patch pair that could not be certified: its result is missing from the output. Patch
+ * indices are those of cb_nurbs_surface_extract_bezier (-1 for an analytic side). */
+typedef struct {
+    int face_a, face_b;
+    int patch_a, patch_b;
+    cb_status status;
+    char msg[200];
+} cb_ssi_failure;
+
+typedef struct {
+    slong n_curves, alloc_curves;
+    cb_ssi_curve *curve;
+    slong n_points, alloc_points;
+    cb_ssi_isolated *point;
+    slong n_failed, alloc_failed;
+    cb_ssi_failure *failed;
+
+    cb_status status;       /* CB_OK when every patch pair was certified, else the status of
+                               the first failure (in pair order) */
+    slong pairs_total;      /* patch pairs considered */
+    slong pairs_culled;     /* separated oriented boxes (section 4.1) */
+    slong pairs_empty;      /* phi proved sign-definite by its Bernstein coefficients */
+    slong pairs_certified;  /* topology computed (includes pairs_empty) */
+    double tol;             /* tolerance used */
+    double max_dist_a, max_dist_b; /* largest distance of an output point to A and to B */
+    double time_topo, time_trace;  /* seconds summed over patch pairs (all threads) */
+} cb_ssi_result_struct;
+typedef cb_ssi_result_struct cb_ssi_result_t[1];
+
+void cb_ssi_result_init(cb_ssi_result_t r);
+void cb_ssi_result_clear(cb_ssi_result_t r);
+
+/* ---------------------------------------------------------------- drivers ------------------ */
+
+/* Intersection of A and B (whole surfaces; an analytic one restricted to its range), appended
+ * to r with face_a = face_a, face_b = face_b (pass -1, -1 outside a body). Supported pairs:
+ * analytic/NURBS either way round, NURBS/NURBS (the side of lower patch bidegree product is
+ * implicitised per patch; a planar patch by its plane). Analytic/analytic is refused with
+ * CB_ERR_UNSUPPORTED. Returns CB_OK even when some patch pairs are not certified (see
+ * r->status and r->failed); an error return (invalid input, no memory) leaves r's earlier
+ * content and adds nothing. The counters of r are added to. */
+cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_ssi_surface *B,
+                          int face_a, int face_b, const cb_ssi_opts *opts, cb_error *err);
+
+/* Every face of a against every face of b whose boxes overlap (AABB of the surface geometry
+ * over the face's parameter box, grown by the tolerance). Analytic faces are bounded by the
+ * parameter box of their edges (sampled and inverted); the curves are not clipped to trimming
+ * loops. Face pairs that cannot be intersected (analytic/analytic, revolution, extrusion) are
+ * listed in r->failed with patch indices -1. With opts->tol <= 0 the tolerance is 1e-6 times
+ * the diagonal of the box of both bodies. */
+cb_status cb_ssi_bodies(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_body *b,
+                        const cb_ssi_opts *opts, cb_error *err);
+
+/* ------------------------------------------- for the driver's own files (not a public API) -- */
+
+/* A point of a piece under construction: the parameters on P and Q (the implicitised and the
+ * parameterised side) and which of them are held fixed during refinement (bit 0 u, 1 v, 2 s,
+ * 3 t): a point on a patch boundary keeps that boundary's parameter. */
+typedef struct {
+    double uv[2], st[2];
+    unsigned fixed;
+} _cb_ssi_pq;
+
+/* A polyline found in one patch pair, before stitching; points in P/Q parameters. */
+typedef struct {
+    slong n, alloc;
+    _cb_ssi_pq *pt;
+    double *xyz;   /* 3 n: midpoints of P(uv) and Q(st) */
+    double gap;    /* largest |P(uv) - Q(st)| over the points */
+    int closed, tangential, isolated;
+} _cb_ssi_piece;
+
+void _cb_ssi_piece_init(_cb_ssi_piece *p);
+void _cb_ssi_piece_clear(_cb_ssi_piece *p);
+void _cb_ssi_piece_push(_cb_ssi_piece *p, const _cb_ssi_pq *q, const double X[3]);
+
+typedef struct {
+    slong n, alloc;
+    _cb_ssi_piece *p;
+} _cb_ssi_piece_set;
+
+void _cb_ssi_piece_set_init(_cb_ssi_piece_set *ps);
+void _cb_ssi_piece_set_clear(_cb_ssi_piece_set *ps);
+_cb_ssi_piece *_cb_ssi_piece_set_add(_cb_ssi_piece_set *ps);
+
+/* A curve in Q's local patch box [0,1]^2 from the tracer: sigma, tau per point, and the
+ * Q-side fixed bits of each point (bit 2 s, bit 3 t) for points on the box sides. */
+typedef struct {
+    slong n, alloc;
+    double *st;
+    unsigned *fixed;
+    int closed, tangential, isolated;
+} _cb_ssi_trace_curve;
+
+/* The traced curves of one patch pair. */
+typedef struct {
+    slong n, alloc;
+    _cb_ssi_trace_curve *c;
+} _cb_ssi_trace_set;
+
+void _cb_ssi_trace_set_init(_cb_ssi_trace_set *ts);
+void _cb_ssi_trace_set_clear(_cb_ssi_trace_set *ts);
+
+/* The squarefree part of phi without its content in t, as doubles for tracing: hd[i (dt+1)
+ * + j] multiplies s^i t^j, scaled so that the largest is about 1. */
+typedef struct {
+    slong ds, dt;
+    double *hd;
+} _cb_ssi_sqf;
+
+void _cb_ssi_sqf_init(_cb_ssi_sqf *h);
+void _cb_ssi_sqf_clear(_cb_ssi_sqf *h);
+void _cb_ssi_sqf_set(_cb_ssi_sqf *h, const fmpz_mpoly_t phi, const fmpz_mpoly_ctx_t ctx);
+
+/* Sorted distinct real roots of sum_j a[j] t^j (j <= deg) in [0, 1], at most deg of them
+ * (none for a constant). Method: the roots of the derivative (recursively) cut [0, 1] into
+ * monotone pieces; a piece holds a root where its end values change sign (bisection to
+ * round-off) or vanish exactly. Never divides by the leading coefficient, so a degree drop
+ * where it vanishes does no harm. */
+int _cb_ssi_roots01(double *roots, const double *a, int deg);
+
+/* Geometry of Q for the tracer's step control: point of Q at local (sigma, tau). */
+typedef void (*_cb_ssi_lift_fn)(double X[3], const void *ctx, double sigma, double tau);
+
+/* Traces every edge of the topology graph T of the curve h = 0 in [0,1]^2 and joins edges
+ * through vertices of degree 2 not on a side of the box into curves; isolated vertices become
+ * one-point curves. Step control: the 3D midpoint of every chord (lifted by lift) is within
+ * chord of the curve's midpoint and chords are at most max_seg long. Method: on an edge
+ * between consecutive vertices, h(s, .) has the same number of roots in [0, 1] for every s
+ * strictly between them (no critical value there), so the branch is the root of a fixed rank;
+ * the rank is read at the edge's regular end point and kept, which is what makes jumping to
+ * another branch impossible. Vertical edges are sampled along t. */
+void _cb_ssi_trace(_cb_ssi_trace_set *out, const cb_ctopo_t T, const _cb_ssi_sqf *h,
+                   _cb_ssi_lift_fn lift, const void *lift_ctx, double chord, double max_seg);
+
+/* The two sides of one patch pair, in local parameters: [0,1]^2 for Bezier patches (mapped
+ * to the surfaces' domains only in the output), the own parameters for an analytic P. */
+typedef struct {
+    int p_analytic;
+    cb_analytic_surface an;
+    double an_range[4], an_period[2]; /* period 0: not angular */
+    const cb_dixon_patch_struct *p;        /* P's Bezier patch when !p_analytic */
+    const cb_dixon_pencil_struct *p_pencil; /* its Dixon pencil; NULL for a planar patch */
+    const cb_dixon_patch_struct *q;        /* Q's Bezier patch */
+    double tol, chord, max_seg;
+} _cb_ssi_pair_geom;
+
+/* Parameters of a point X on the analytic surface a, by the closed forms of its
+ * parameterisation in the local frame; angles in (-pi, pi]. */
+void _cb_ssi_analytic_invert(double uv[2], const cb_analytic_surface *a, const double X[3]);
+
+/* Q(sigma, tau) for the tracer (ctx is the _cb_ssi_pair_geom). */
+void _cb_ssi_lift(double X[3], const void *geom, double sigma, double tau);
+
+/* Lifts the traced curves of one pair, refines every point onto both surfaces and clips to
+ * P's parameter box (section 4.4): curves are split where P's parameters cross the box's
+ * boundary, the split points refined onto that boundary, and a piece is kept when its
+ * representative (middle) point lies inside: for a spline P decided by the Dixon inversion
+ * cb_inversion_solve, for an analytic P by its own parameters. Points are refined by
+ * Gauss-Newton with minimum-norm steps on P(u, v) = Q(s, t), parameters on patch sides held
+ * fixed, until |P - Q| <= tol / 100 or no progress; the point reported is the midpoint. */
+void _cb_ssi_clip(_cb_ssi_piece_set *out, const _cb_ssi_trace_set *ts,
+                  const _cb_ssi_pair_geom *g);
+
+/* Joins the pieces of all patch pairs (sets, in pair order; parameters already in the
+ * surfaces' domains) into maximal curves appended to r: end points closer than merge_tol form
+ * one node and get the coordinates of the first of them; chains pass nodes of degree 2; a
+ * piece whose ends match an earlier piece's and whose middle is within chord + merge_tol of it (a curve on a patch boundary shared by
+ * two pairs) is dropped, as is an isolated point at a node or at an earlier isolated point.
+ * swapped: P is B (so uv goes to uv_b). Curves start at their lowest piece, so the output
+ * depends only on the order of sets. */
+void _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong nsets, int swapped,
+                    int face_a, int face_b, double merge_tol, double chord);
+
+/* Appends a failure record to r (and sets r->status if it was CB_OK). */
+void _cb_ssi_add_failure(cb_ssi_result_t r, int fa, int fb, int pa, int pb, cb_status st,
+                         const char *msg);
+
+#endif

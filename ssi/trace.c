@@ -1,0 +1,410 @@
+/* trace.c — tracing the branches of a certified topology graph (paper section 4.4, appendix B).
+ *
+ * The graph of cb_ctopo_compute cuts the curve into edges that are graphs t = y(s) between
+ * consecutive vertices with no critical value strictly between them. There the roots of
+ * h(s, .) in [0, 1] are simple and constant in number, so a branch is "the root of rank k"
+ * and can be followed by solving h(s, t) = 0 for t at each s: no predictor can jump to a
+ * neighbouring branch, which is the failure mode of plain marching near singular points. */
+#include <flint/fmpz_mpoly_factor.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ssi/ssi.h"
+
+/* --------------------------------------------------------------- squarefree part in doubles */
+
+void _cb_ssi_sqf_init(_cb_ssi_sqf *h)
+{
+    h->ds = h->dt = -1;
+    h->hd = NULL;
+}
+
+void _cb_ssi_sqf_clear(_cb_ssi_sqf *h)
+{
+    free(h->hd);
+    _cb_ssi_sqf_init(h);
+}
+
+void _cb_ssi_sqf_set(_cb_ssi_sqf *h, const fmpz_mpoly_t phi, const fmpz_mpoly_ctx_t ctx)
+{
+    fmpz_mpoly_factor_t fac;
+    fmpz_mpoly_t prod;
+    fmpz_mpoly_factor_init(fac, ctx);
+    fmpz_mpoly_init(prod, ctx);
+    fmpz_mpoly_one(prod, ctx);
+    fmpz_mpoly_factor_squarefree(fac, phi, ctx);
+    /* Factors free of t are vertical lines: traced as vertical edges, not as roots in t. */
+    for (slong i = 0; i < fac->num; i++)
+        if (fmpz_mpoly_degree_si(fac->poly + i, 1, ctx) > 0)
+            fmpz_mpoly_mul(prod, prod, fac->poly + i, ctx);
+    _cb_ssi_sqf_clear(h);
+    h->ds = fmpz_mpoly_degree_si(prod, 0, ctx);
+    h->dt = fmpz_mpoly_degree_si(prod, 1, ctx);
+    if (h->ds < 0)
+        h->ds = 0;
+    if (h->dt < 0)
+        h->dt = 0;
+    slong len = (h->ds + 1) * (h->dt + 1);
+    h->hd = calloc((size_t)len, sizeof(double));
+    slong emax = WORD_MIN;
+    slong nt = fmpz_mpoly_length(prod, ctx);
+    fmpz_t c;
+    fmpz_init(c);
+    for (slong k = 0; k < nt; k++) {
+        fmpz_mpoly_get_term_coeff_fmpz(c, prod, k, ctx);
+        emax = FLINT_MAX(emax, (slong)fmpz_bits(c));
+    }
+    for (slong k = 0; k < nt; k++) {
+        ulong e[2];
+        slong ex;
+        fmpz_mpoly_get_term_coeff_fmpz(c, prod, k, ctx);
+        fmpz_mpoly_get_term_exp_ui(e, prod, k, ctx);
+        double m = fmpz_get_d_2exp(&ex, c);
+        h->hd[e[0] * (h->dt + 1) + e[1]] = ldexp(m, (int)(ex - emax));
+    }
+    fmpz_clear(c);
+    fmpz_mpoly_clear(prod, ctx);
+    fmpz_mpoly_factor_clear(fac, ctx);
+}
+
+/* Coefficients a[j] of h(s, t) in t at a fixed s (Horner in s). */
+static void sqf_at_s(double *a, const _cb_ssi_sqf *h, double s)
+{
+    for (slong j = 0; j <= h->dt; j++) {
+        double v = 0;
+        for (slong i = h->ds; i >= 0; i--)
+            v = v * s + h->hd[i * (h->dt + 1) + j];
+        a[j] = v;
+    }
+}
+
+/* --------------------------------------------------------------- univariate roots ---------- */
+
+static double horner(const double *a, int deg, double t)
+{
+    double v = 0;
+    for (int j = deg; j >= 0; j--)
+        v = v * t + a[j];
+    return v;
+}
+
+int _cb_ssi_roots01(double *roots, const double *a, int deg)
+{
+    while (deg > 0 && a[deg] == 0)
+        deg--;
+    if (deg <= 0)
+        return 0;
+    double d[CB_MAX_DEGREE * 4 + 1], cut[CB_MAX_DEGREE * 4 + 2];
+    for (int j = 1; j <= deg; j++)
+        d[j - 1] = j * a[j];
+    int nc = 0;
+    cut[nc++] = 0;
+    nc += _cb_ssi_roots01(cut + nc, d, deg - 1);
+    cut[nc++] = 1;
+    int n = 0;
+    for (int k = 0; k + 1 < nc; k++) {
+        double lo = cut[k], hi = cut[k + 1];
+        double flo = horner(a, deg, lo), fhi = horner(a, deg, hi);
+        if (flo == 0) {
+            if (n == 0 || roots[n - 1] != lo)
+                roots[n++] = lo;
+            continue;
+        }
+        if (fhi == 0) {
+            if (k + 2 == nc)
+                roots[n++] = hi;
+            continue;
+        }
+        if ((flo < 0) == (fhi < 0))
+            continue;
+        for (int it = 0; it < 200; it++) {
+            double m = 0.5 * (lo + hi);
+            if (m <= lo || m >= hi)
+                break;
+            double fm = horner(a, deg, m);
+            if (fm == 0) {
+                lo = hi = m;
+                break;
+            }
+            if ((fm < 0) == (flo < 0))
+                lo = m;
+            else
+                hi = m;
+        }
+        roots[n++] = 0.5 * (lo + hi);
+    }
+    return n;
+}
+
+/* --------------------------------------------------------------- containers ---------------- */
+
+void _cb_ssi_trace_set_init(_cb_ssi_trace_set *ts)
+{
+    ts->n = ts->alloc = 0;
+    ts->c = NULL;
+}
+
+void _cb_ssi_trace_set_clear(_cb_ssi_trace_set *ts)
+{
+    for (slong i = 0; i < ts->n; i++) {
+        free(ts->c[i].st);
+        free(ts->c[i].fixed);
+    }
+    free(ts->c);
+    _cb_ssi_trace_set_init(ts);
+}
+
+static _cb_ssi_trace_curve *trace_set_add(_cb_ssi_trace_set *ts)
+{
+    if (ts->n == ts->alloc) {
+        ts->alloc = ts->alloc ? 2 * ts->alloc : 8;
+        ts->c = realloc(ts->c, (size_t)ts->alloc * sizeof(*ts->c));
+    }
+    _cb_ssi_trace_curve *c = ts->c + ts->n++;
+    memset(c, 0, sizeof(*c));
+    return c;
+}
+
+static void curve_push(_cb_ssi_trace_curve *c, double s, double t, unsigned fixed)
+{
+    if (c->n > 0 && c->st[2 * c->n - 2] == s && c->st[2 * c->n - 1] == t)
+        return;
+    if (c->n == c->alloc) {
+        c->alloc = c->alloc ? 2 * c->alloc : 32;
+        c->st = realloc(c->st, (size_t)c->alloc * 2 * sizeof(double));
+        c->fixed = realloc(c->fixed, (size_t)c->alloc * sizeof(unsigned));
+    }
+    c->st[2 * c->n] = s;
+    c->st[2 * c->n + 1] = t;
+    c->fixed[c->n] = fixed;
+    c->n++;
+}
+
+/* Q-side fixed bits of a vertex on the box sides. */
+static unsigned vertex_fixed(const cb_ctopo_vertex_struct *v)
+{
+    unsigned f = 0;
+    if (v->sides & (CB_CTOPO_SIDE_S0 | CB_CTOPO_SIDE_S1))
+        f |= 4u;
+    if (v->sides & (CB_CTOPO_SIDE_T0 | CB_CTOPO_SIDE_T1))
+        f |= 8u;
+    return f;
+}
+
+/* --------------------------------------------------------------- one edge ------------------ */
+
+typedef struct {
+    const _cb_ssi_sqf *h;
+    int rank, count;   /* branch = root number rank of count roots */
+    int vertical;
+    double alpha;      /* s of a vertical edge */
+    double *work;      /* dt + 1 coefficients */
+    double *roots;
+} edge_param;
+
+/* The point of the edge at parameter x (s for a branch, t for a vertical edge); 0 when the
+ * root count differs from the certified one (x too close to a critical end for doubles). */
+static int edge_point(double st[2], edge_param *E, double x)
+{
+    if (E->vertical) {
+        st[0] = E->alpha;
+        st[1] = x;
+        return 1;
+    }
+    sqf_at_s(E->work, E->h, x);
+    int n = _cb_ssi_roots01(E->roots, E->work, (int)E->h->dt);
+    if (n != E->count)
+        return 0;
+    st[0] = x;
+    st[1] = E->roots[E->rank];
+    return 1;
+}
+
+static double dist3(const double a[3], const double b[3])
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/* Appends the points of edge e from vertex `from` to vertex `to` (end point included, start
+ * point assumed present). */
+static void trace_edge(_cb_ssi_trace_curve *out, const cb_ctopo_t T, slong e, int reversed,
+                       const _cb_ssi_sqf *h, _cb_ssi_lift_fn lift, const void *lift_ctx,
+                       double chord, double max_seg, double *work, double *roots)
+{
+    const cb_ctopo_edge_struct *E = T->edge + e;
+    const cb_ctopo_vertex_struct *va = T->vertex + (reversed ? E->v1 : E->v0);
+    const cb_ctopo_vertex_struct *vb = T->vertex + (reversed ? E->v0 : E->v1);
+    edge_param P = {h, 0, 0, E->vertical, va->s, work, roots};
+    double xa = E->vertical ? va->t : va->s, xb = E->vertical ? vb->t : vb->s;
+    double span = xb - xa;
+    if (!E->vertical && span != 0) {
+        /* Rank at a regular end (a helping point if there is one: its s is not critical, so
+         * the count there is the count inside), else just inside the other end. */
+        const cb_ctopo_vertex_struct *r;
+        int reg_a = va->kind < CB_CTOPO_CRITICAL && !va->singular;
+        if (vb->kind == CB_CTOPO_HELPING && va->kind != CB_CTOPO_HELPING)
+            r = vb;
+        else
+            r = reg_a ? va : vb;
+        double x = r->s;
+        if (r->kind != CB_CTOPO_HELPING) {
+            double dir = r == va ? 1 : -1;
+            x = r->s + dir * 1e-6 * fabs(span);
+        }
+        sqf_at_s(work, h, x);
+        int n = _cb_ssi_roots01(roots, work, (int)h->dt);
+        int best = 0;
+        for (int k = 1; k < n; k++)
+            if (fabs(roots[k] - r->t) < fabs(roots[best] - r->t))
+                best = k;
+        P.rank = best;
+        P.count = n;
+        if (n == 0) {
+            curve_push(out, vb->s, vb->t, vertex_fixed(vb));
+            return;
+        }
+    }
+    double cur[2] = {va->s, va->t}, Xc[3];
+    lift(Xc, lift_ctx, cur[0], cur[1]);
+    double x = xa, step = span / 8;
+    const double min_step = 1e-13 * (fabs(span) > 0 ? 1 : 0);
+    for (int guard = 0; guard < 100000 && x != xb; guard++) {
+        double xn = x + step;
+        int last = (span > 0) ? (xn >= xb) : (xn <= xb);
+        double nxt[2], mid[2], Xn[3], Xm[3];
+        int ok;
+        if (last) {
+            xn = xb;
+            nxt[0] = vb->s;
+            nxt[1] = vb->t;
+            ok = 1;
+        } else {
+            ok = edge_point(nxt, &P, xn);
+        }
+        if (ok)
+            ok = edge_point(mid, &P, 0.5 * (x + xn));
+        if (ok) {
+            lift(Xn, lift_ctx, nxt[0], nxt[1]);
+            lift(Xm, lift_ctx, mid[0], mid[1]);
+            double sag = sqrt((Xm[0] - 0.5 * (Xc[0] + Xn[0])) * (Xm[0] - 0.5 * (Xc[0] + Xn[0])) +
+                              (Xm[1] - 0.5 * (Xc[1] + Xn[1])) * (Xm[1] - 0.5 * (Xc[1] + Xn[1])) +
+                              (Xm[2] - 0.5 * (Xc[2] + Xn[2])) * (Xm[2] - 0.5 * (Xc[2] + Xn[2])));
+            ok = sag <= chord && dist3(Xc, Xn) <= max_seg;
+            if (ok && sag < 0.25 * chord)
+                step *= 1.5;
+        }
+        if (!ok && fabs(step) > min_step * fabs(span)) {
+            step *= 0.5;
+            continue;
+        }
+        if (!ok && !last) {
+            /* Below the resolution of doubles next to a critical end: the end is the rest. */
+            xn = xb;
+            nxt[0] = vb->s;
+            nxt[1] = vb->t;
+            lift(Xn, lift_ctx, nxt[0], nxt[1]);
+        }
+        x = xn;
+        cur[0] = nxt[0];
+        cur[1] = nxt[1];
+        memcpy(Xc, Xn, sizeof Xc);
+        curve_push(out, cur[0], cur[1], x == xb ? vertex_fixed(vb) : 0u);
+        if ((span > 0 && x + step > xb) || (span < 0 && x + step < xb))
+            step = xb - x;
+    }
+    curve_push(out, vb->s, vb->t, vertex_fixed(vb));
+}
+
+/* --------------------------------------------------------------- chains -------------------- */
+
+void _cb_ssi_trace(_cb_ssi_trace_set *out, const cb_ctopo_t T, const _cb_ssi_sqf *h,
+                   _cb_ssi_lift_fn lift, const void *lift_ctx, double chord, double max_seg)
+{
+    slong nv = T->n_vertices, ne = T->n_edges;
+    slong *deg = calloc((size_t)nv + 1, sizeof(slong));
+    slong *start = calloc((size_t)nv + 2, sizeof(slong));
+    slong *inc = malloc((size_t)(2 * ne + 1) * sizeof(slong));
+    char *used = calloc((size_t)ne + 1, 1);
+    double *work = malloc((size_t)(h->dt + 2) * sizeof(double));
+    double *roots = malloc((size_t)(h->dt + 2) * sizeof(double));
+    for (slong e = 0; e < ne; e++) {
+        deg[T->edge[e].v0]++;
+        deg[T->edge[e].v1]++;
+    }
+    for (slong v = 0; v < nv; v++)
+        start[v + 1] = start[v] + deg[v];
+    slong *fill = calloc((size_t)nv + 1, sizeof(slong));
+    for (slong e = 0; e < ne; e++) {
+        inc[start[T->edge[e].v0] + fill[T->edge[e].v0]++] = e;
+        inc[start[T->edge[e].v1] + fill[T->edge[e].v1]++] = e;
+    }
+    free(fill);
+    /* A chain passes through a vertex of degree 2 inside the box; it stops elsewhere, so that
+     * pieces end on patch sides (where stitching joins them) and at nodes. */
+#define PASS(v) (deg[v] == 2 && T->vertex[v].sides == 0)
+    for (int pass = 0; pass < 2; pass++) {
+        /* Pass 0: open chains, started at stopping vertices in index order. Pass 1: the
+         * remaining edges are closed loops, started at their lowest edge. */
+        for (slong e0 = 0; e0 < ne; e0++) {
+            if (used[e0])
+                continue;
+            const cb_ctopo_edge_struct *E0 = T->edge + e0;
+            slong v;
+            int rev;
+            if (pass == 0) {
+                if (!PASS(E0->v0)) {
+                    v = E0->v0;
+                    rev = 0;
+                } else if (!PASS(E0->v1)) {
+                    v = E0->v1;
+                    rev = 1;
+                } else {
+                    continue;
+                }
+            } else {
+                v = E0->v0;
+                rev = 0;
+            }
+            _cb_ssi_trace_curve *c = trace_set_add(out);
+            c->tangential = 1;
+            const cb_ctopo_vertex_struct *vs = T->vertex + v;
+            curve_push(c, vs->s, vs->t, vertex_fixed(vs));
+            slong e = e0;
+            for (;;) {
+                used[e] = 1;
+                c->tangential &= T->edge[e].tangential != 0;
+                trace_edge(c, T, e, rev, h, lift, lift_ctx, chord, max_seg, work, roots);
+                v = rev ? T->edge[e].v0 : T->edge[e].v1;
+                if (!PASS(v))
+                    break;
+                slong nxt = -1;
+                for (slong k = start[v]; k < start[v + 1]; k++)
+                    if (!used[inc[k]])
+                        nxt = inc[k];
+                if (nxt < 0) {
+                    c->closed = pass == 1;
+                    break;
+                }
+                e = nxt;
+                rev = T->edge[e].v1 == v;
+            }
+        }
+    }
+#undef PASS
+    for (slong v = 0; v < nv; v++) {
+        if (deg[v] != 0)
+            continue;
+        _cb_ssi_trace_curve *c = trace_set_add(out);
+        c->isolated = 1;
+        c->tangential = 1;
+        curve_push(c, T->vertex[v].s, T->vertex[v].t, vertex_fixed(T->vertex + v));
+    }
+    free(deg);
+    free(start);
+    free(inc);
+    free(used);
+    free(work);
+    free(roots);
+}
