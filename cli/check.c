@@ -7,6 +7,7 @@
 #include "brep/mesh_check.h"
 #include "cli/commands.h"
 #include "io/mesh.h"
+#include "io/json.h"
 
 static const char CHECK_USAGE[] =
     "usage: colibri check MESH [--json]\n"
@@ -37,22 +38,6 @@ static const char CHECK_USAGE[] =
     "example:\n"
     "  colibri check part.stl --json\n";
 
-/* s as a JSON string literal. */
-static void json_string(FILE *out, const char *s)
-{
-    fputc('"', out);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(out, "\\%c", c);
-        else if (c < 0x20)
-            fprintf(out, "\\u%04x", c);
-        else
-            fputc(c, out);
-    }
-    fputc('"', out);
-}
-
 /* A check result in JSON: true, false, or null when the check was not run. */
 static const char *json_flag(int v)
 {
@@ -62,7 +47,7 @@ static const char *json_flag(int v)
 static void print_json(const char *path, const cb_mesh_check_report *r)
 {
     fputs("{\"file\": ", stdout);
-    json_string(stdout, path);
+    cb_json_string(stdout, path);
     printf(", \"vertices\": %d, \"triangles\": %d, \"closed\": %s, \"manifold\": %s, "
            "\"edge_manifold\": %s, \"vertex_manifold\": %s, \"oriented\": %s, "
            "\"triangle_mesh\": %s, \"self_intersections\": %s, \"bounds_volume\": %s, "

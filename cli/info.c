@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "io/bpt.h"
 #include "io/step.h"
+#include "io/json.h"
 
 static const char INFO_USAGE[] =
     "usage: colibri info FILE [--json] [--tol T]\n"
@@ -40,22 +41,6 @@ static int has_extension(const char *path, const char *ext)
     return dot && !strcasecmp(dot + 1, ext);
 }
 
-/* s as a JSON string literal. */
-static void json_string(FILE *out, const char *s)
-{
-    fputc('"', out);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(out, "\\%c", c);
-        else if (c < 0x20)
-            fprintf(out, "\\u%04x", c);
-        else
-            fputc(c, out);
-    }
-    fputc('"', out);
-}
-
 static void print_patches(const char *path, const cb_nurbs_surface_struct *p, int n, int json)
 {
     long points = 0;
@@ -72,7 +57,7 @@ static void print_patches(const char *path, const cb_nurbs_surface_struct *p, in
     }
     if (json) {
         fputs("{\"file\": ", stdout);
-        json_string(stdout, path);
+        cb_json_string(stdout, path);
         printf(", \"format\": \"bpt\", \"patches\": %d, \"rational\": %d, \"control_points\": %ld, "
                "\"max_degree\": [%d, %d]}\n",
                n, rational, points, max_du, max_dv);
@@ -103,7 +88,7 @@ static void print_step_json(const char *path, const cb_topo_body *b, const cb_aa
     const char *names[8];
     int counts[8], nt = cb_topo_body_surface_types(names, counts, b);
     fputs("{\"file\": ", stdout);
-    json_string(stdout, path);
+    cb_json_string(stdout, path);
     printf(", \"format\": \"step\", \"solids\": %d, \"shells\": %d, \"faces\": %d, \"edges\": %d, "
            "\"vertices\": %d, \"surface_types\": {",
            b->n_solids, b->n_shells, b->n_faces, b->n_edges, b->n_vertices);
@@ -115,7 +100,7 @@ static void print_step_json(const char *path, const cb_topo_body *b, const cb_aa
            b->length_unit_mm, tol, r->n ? "false" : "true");
     for (int k = 0; k < r->n; k++) {
         fputs(k ? ", " : "", stdout);
-        json_string(stdout, r->items[k]);
+        cb_json_string(stdout, r->items[k]);
     }
     printf("], \"problems_not_listed\": %d, \"max_edge_surface_deviation\": %.17g, "
            "\"max_loop_gap\": %.17g, \"max_edge_vertex_deviation\": %.17g}\n",

@@ -7,6 +7,7 @@
 #include "cli/commands.h"
 #include "io/step.h"
 #include "ssi/ssi.h"
+#include "io/json.h"
 
 static const char SSI_USAGE[] =
     "usage: colibri ssi A.step B.step [--json OUT.json] [--tol T] [--threads N]\n"
@@ -69,21 +70,6 @@ static void json_branch(FILE *f, int first, int fa, int fb, const char *kind, in
     fprintf(f, "}");
 }
 
-static void json_string(FILE *out, const char *s)
-{
-    fputc('"', out);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(out, "\\%c", c);
-        else if (c < 0x20)
-            fprintf(out, "\\u%04x", c);
-        else
-            fputc(c, out);
-    }
-    fputc('"', out);
-}
-
 static int write_json(const char *path, const cb_ssi_result_t r, double t)
 {
     FILE *f = fopen(path, "w");
@@ -109,7 +95,7 @@ static int write_json(const char *path, const cb_ssi_result_t r, double t)
                    "\"status\": \"%s\", \"message\": ",
                 k ? "," : "", x->face_a, x->face_b, x->patch_a, x->patch_b,
                 cb_status_name(x->status));
-        json_string(f, x->msg);
+        cb_json_string(f, x->msg);
         fprintf(f, "}");
     }
     fprintf(f, "]}\n");
