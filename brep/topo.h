@@ -103,6 +103,15 @@ cb_status cb_topo_projector_init(cb_topo_projector *pr, const cb_topo_surface *s
 void cb_topo_projector_clear(cb_topo_projector *pr);
 double cb_topo_projector_distance(const cb_topo_projector *pr, const double p[3]);
 
+/* Largest count cb_topo_projector_starts gives. */
+#define CB_TOPO_MAX_STARTS 8
+
+/* The (u, v) of the max (<= CB_TOPO_MAX_STARTS) grid samples nearest p, nearest first, as
+ * starting points of a local search; returns how many there are. Needs a sample grid
+ * (pr->grid not NULL). */
+int cb_topo_projector_starts(double (*uv)[2], int max, const cb_topo_projector *pr,
+                             const double p[3]);
+
 /* ---------------------------------------------------------------- topology ----------------- */
 
 typedef struct {

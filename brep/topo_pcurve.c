@@ -299,29 +299,11 @@ static double invert_global(double uv[2], const cb_topo_inverter *inv, const dou
         profile_start(uv, inv, p);
         return newton(uv, inv, p);
     }
-    int idx[N_STARTS];
-    double dist[N_STARTS];
-    for (int k = 0; k < N_STARTS; k++) {
-        idx[k] = -1;
-        dist[k] = HUGE_VAL;
-    }
-    for (int k = 0; k < pr->nu * pr->nv; k++) {
-        double d = cb_vec3_dist(pr->grid + 3 * (size_t)k, p);
-        for (int j = 0; j < N_STARTS; j++)
-            if (d < dist[j]) {
-                for (int m = N_STARTS - 1; m > j; m--) {
-                    dist[m] = dist[m - 1];
-                    idx[m] = idx[m - 1];
-                }
-                dist[j] = d;
-                idx[j] = k;
-                break;
-            }
-    }
+    double starts[N_STARTS][2];
+    int n = cb_topo_projector_starts(starts, N_STARTS, pr, p);
     double best = HUGE_VAL;
-    for (int j = 0; j < N_STARTS && idx[j] >= 0; j++) {
-        double w[2] = {pr->box[0] + (pr->box[1] - pr->box[0]) * (idx[j] / pr->nv) / (pr->nu - 1),
-                       pr->box[2] + (pr->box[3] - pr->box[2]) * (idx[j] % pr->nv) / (pr->nv - 1)};
+    for (int j = 0; j < n; j++) {
+        double w[2] = {starts[j][0], starts[j][1]};
         double d = newton(w, inv, p);
         if (d < best) {
             best = d;

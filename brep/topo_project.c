@@ -97,20 +97,22 @@ static double surface_newton(const cb_topo_surface *s, const double box[4], cons
     return best;
 }
 
-/* Grid search then Newton from the N_STARTS nearest samples. */
-static double grid_distance(const cb_topo_projector *pr, const double p[3])
+int cb_topo_projector_starts(double (*uv)[2], int max, const cb_topo_projector *pr,
+                             const double p[3])
 {
-    int idx[N_STARTS];
-    double dist[N_STARTS];
-    for (int k = 0; k < N_STARTS; k++) {
+    int idx[CB_TOPO_MAX_STARTS];
+    double dist[CB_TOPO_MAX_STARTS];
+    if (max > CB_TOPO_MAX_STARTS)
+        max = CB_TOPO_MAX_STARTS;
+    for (int k = 0; k < max; k++) {
         idx[k] = -1;
         dist[k] = HUGE_VAL;
     }
     for (int k = 0; k < pr->nu * pr->nv; k++) {
         double d = cb_vec3_dist(pr->grid + 3 * (size_t)k, p);
-        for (int j = 0; j < N_STARTS; j++)
+        for (int j = 0; j < max; j++)
             if (d < dist[j]) {
-                for (int m = N_STARTS - 1; m > j; m--) {
+                for (int m = max - 1; m > j; m--) {
                     dist[m] = dist[m - 1];
                     idx[m] = idx[m - 1];
                 }
@@ -119,13 +121,22 @@ static double grid_distance(const cb_topo_projector *pr, const double p[3])
                 break;
             }
     }
-    double best = dist[0];
-    for (int j = 0; j < N_STARTS && idx[j] >= 0; j++) {
-        int i = idx[j] / pr->nv, m = idx[j] % pr->nv;
-        double u = pr->box[0] + (pr->box[1] - pr->box[0]) * i / (pr->nu - 1);
-        double v = pr->box[2] + (pr->box[3] - pr->box[2]) * m / (pr->nv - 1);
-        best = fmin(best, surface_newton(pr->s, pr->box, p, u, v));
+    int n = 0;
+    for (; n < max && idx[n] >= 0; n++) {
+        uv[n][0] = pr->box[0] + (pr->box[1] - pr->box[0]) * (idx[n] / pr->nv) / (pr->nu - 1);
+        uv[n][1] = pr->box[2] + (pr->box[3] - pr->box[2]) * (idx[n] % pr->nv) / (pr->nv - 1);
     }
+    return n;
+}
+
+/* Grid search then Newton from the N_STARTS nearest samples. */
+static double grid_distance(const cb_topo_projector *pr, const double p[3])
+{
+    double uv[N_STARTS][2];
+    int n = cb_topo_projector_starts(uv, N_STARTS, pr, p);
+    double best = HUGE_VAL;
+    for (int j = 0; j < n; j++)
+        best = fmin(best, surface_newton(pr->s, pr->box, p, uv[j][0], uv[j][1]));
     return best;
 }
 
