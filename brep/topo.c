@@ -342,3 +342,17 @@ int cb_topo_body_surface_types(const char *names[8], int counts[8], const cb_top
     }
     return n;
 }
+
+double cb_topo_edge_length(const cb_topo_body *b, int e)
+{
+    const cb_topo_edge *ed = &b->edges[e];
+    double prev[3], len = 0;
+    for (int k = 0; k <= 16; k++) {
+        double p[3];
+        cb_topo_curve_eval(p, &b->curves[ed->curve], ed->t0 + (ed->t1 - ed->t0) * k / 16.0);
+        if (k)
+            len += cb_vec3_dist(p, prev);
+        memcpy(prev, p, sizeof p);
+    }
+    return len;
+}

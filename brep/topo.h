@@ -212,6 +212,10 @@ int cb_topo_vertex_edges(int *out, int max, const cb_topo_body *b, int vertex);
 /* Faces sharing an edge with the face, the face itself excluded. */
 int cb_topo_face_neighbours(int *out, int max, const cb_topo_body *b, int face);
 
+/* Length of edge e's curve over its range, by 16 chords (enough to tell a collapsed edge, a
+ * pole or an apex, from a real one). */
+double cb_topo_edge_length(const cb_topo_body *b, int e);
+
 /* Start and end point of a coedge's curve in traversal order. */
 void cb_topo_coedge_ends(double start[3], double end[3], const cb_topo_body *b, int coedge);
 
@@ -293,6 +297,12 @@ double cb_topo_coedge_pcurve_range(double *s0, double *s1, const cb_topo_body *b
  * pcurve may run through the domain's end:
  * cb_topo_coedge_pcurve_range then gives s1 beyond it). */
 void cb_topo_pcurve_eval(double uv[3], const cb_topo_curve *pc, double s);
+
+/* Largest distance from S(a) of the surface along the (u, v) segment a -> b (5 points): 0 for
+ * equal points, tiny for two points on one collapsed line (a pole), so it tells whether a
+ * joint in (u, v) closes on the surface. */
+double cb_topo_inverter_spread(const cb_topo_inverter *inv, const double a[2],
+                               const double b[2]);
 
 /* Distance from p to edge e's curve over the edge's range [t0, t1] only (for a conic the arc,
  * not the whole circle). */

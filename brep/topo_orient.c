@@ -41,26 +41,13 @@ static cb_status push_point(polygons *pg, const double uv[2], cb_error *err)
     return CB_OK;
 }
 
-/* Largest distance from S(a) along the (u, v) segment a -> b. */
-static double spread(const cb_topo_inverter *inv, const double a[2], const double b[2])
-{
-    double pa[3], worst = 0;
-    cb_topo_inverter_eval(pa, inv, a[0], a[1]);
-    for (int k = 1; k <= 4; k++) {
-        double p[3], s = k / 4.0;
-        cb_topo_inverter_eval(p, inv, a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]));
-        worst = fmax(worst, cb_vec3_dist(p, pa));
-    }
-    return worst;
-}
-
 /* Whole periods k[i] that move b nearest a; zero when the segment a -> b already closes on the
  * surface (equal points, a pole line). */
 static void periods_between(int k[2], const cb_topo_inverter *inv, const double a[2],
                             const double b[2], double tol)
 {
     k[0] = k[1] = 0;
-    if (spread(inv, a, b) <= tol)
+    if (cb_topo_inverter_spread(inv, a, b) <= tol)
         return;
     for (int i = 0; i < 2; i++)
         if (inv->lift[i] > 0)

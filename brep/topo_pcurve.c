@@ -848,7 +848,8 @@ static void coedge_uv(double uv[2], const cb_topo_body *b, int c, int end)
 
 /* Largest distance from S(a) of the surface along the (u, v) segment a -> b: 0 for equal
  * points, tiny for points on one collapsed line (a pole). */
-static double segment_spread(const cb_topo_inverter *inv, const double a[2], const double b[2])
+double cb_topo_inverter_spread(const cb_topo_inverter *inv, const double a[2],
+                               const double b[2])
 {
     double pa[3], worst = 0;
     cb_topo_inverter_eval(pa, inv, a[0], a[1]);
@@ -867,7 +868,7 @@ static void joint_shift(double sh[2], const cb_topo_inverter *inv, const double 
                         const double start[2], double tol)
 {
     sh[0] = sh[1] = 0;
-    if (segment_spread(inv, prev, start) <= tol)
+    if (cb_topo_inverter_spread(inv, prev, start) <= tol)
         return;
     double w[2] = {start[0], start[1]};
     lift_near(w, inv, prev);
@@ -989,21 +990,6 @@ static void settle_loop(job *j, int l)
     }
 }
 
-/* Length of an edge's curve by 16 chords. */
-static double edge_length(const cb_topo_body *b, int e)
-{
-    const cb_topo_edge *ed = &b->edges[e];
-    double prev[3], len = 0;
-    for (int k = 0; k <= 16; k++) {
-        double p[3];
-        cb_topo_curve_eval(p, &b->curves[ed->curve], ed->t0 + (ed->t1 - ed->t0) * k / 16.0);
-        if (k)
-            len += cb_vec3_dist(p, prev);
-        memcpy(prev, p, sizeof p);
-    }
-    return len;
-}
-
 static cb_status copy_curve(cb_topo_curve *dst, const cb_topo_curve *src, cb_error *err)
 {
     cb_topo_curve_clear(dst);
@@ -1057,7 +1043,8 @@ cb_status cb_topo_compute_pcurves(cb_topo_body *b, double tol, cb_error *err)
     if (!j.inv || !j.ready || !j.fresh || !j.degenerate)
         st = cb_error_set(err, CB_ERR_NOMEM, "pcurves: out of memory");
     for (int c = 0; c < b->n_coedges && !st; c++)
-        j.degenerate[c] = b->coedges[c].pcurve < 0 && !(edge_length(b, b->coedges[c].edge) > tol);
+        j.degenerate[c] = b->coedges[c].pcurve < 0 &&
+                          !(cb_topo_edge_length(b, b->coedges[c].edge) > tol);
     cb_topo_curve q;
     cb_topo_curve_init(&q);
     for (int c = 0; c < b->n_coedges && !st; c++) {

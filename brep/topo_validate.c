@@ -122,21 +122,6 @@ static cb_status check_edge_use(cb_topo_report *r, const cb_topo_body *b, cb_err
     return st;
 }
 
-/* Length of an edge's curve by 16 chords. */
-static double edge_length(const cb_topo_body *b, int e)
-{
-    const cb_topo_edge *ed = &b->edges[e];
-    double prev[3], len = 0;
-    for (int k = 0; k <= 16; k++) {
-        double p[3];
-        cb_topo_curve_eval(p, &b->curves[ed->curve], ed->t0 + (ed->t1 - ed->t0) * k / 16.0);
-        if (k)
-            len += cb_vec3_dist(p, prev);
-        memcpy(prev, p, sizeof p);
-    }
-    return len;
-}
-
 /* Loops closed topologically and in 3D; faces bounded and not degenerate. */
 static cb_status check_loops(cb_topo_report *r, const cb_topo_body *b, double tol, cb_error *err)
 {
@@ -163,7 +148,7 @@ static cb_status check_loops(cb_topo_report *r, const cb_topo_body *b, double to
             for (int k = 0; k < lp->count && !st; k++) {
                 const cb_topo_coedge *c = &b->coedges[lp->first + k];
                 const cb_topo_coedge *n = &b->coedges[lp->first + (k + 1) % lp->count];
-                len += edge_length(b, c->edge);
+                len += cb_topo_edge_length(b, c->edge);
                 if (coedge_end(b, c) != coedge_start(b, n)) {
                     st = problem(r, err,
                                  "face %d: loop %d is open: coedge %d ends at vertex %d, "
@@ -230,20 +215,6 @@ static cb_status check_on_surfaces(cb_topo_report *r, const cb_topo_body *b, dou
     free(pr);
     free(ready);
     return st;
-}
-
-/* Largest distance from S(a) along the (u, v) segment a -> b: within tol when the two points
- * coincide on the surface or share a collapsed line (a pole). */
-static double uv_spread(const cb_topo_inverter *inv, const double a[2], const double b[2])
-{
-    double pa[3], worst = 0;
-    cb_topo_inverter_eval(pa, inv, a[0], a[1]);
-    for (int k = 1; k <= 4; k++) {
-        double p[3], s = k / 4.0;
-        cb_topo_inverter_eval(p, inv, a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]));
-        worst = fmax(worst, cb_vec3_dist(p, pa));
-    }
-    return worst;
 }
 
 /* Pcurve of coedge c against its edge over the part it uses (range written to s), in 3D:
@@ -339,7 +310,8 @@ static cb_status check_pcurves(cb_topo_report *r, const cb_topo_body *b, double 
                         moved[i] += inv.lift[i] * round((a[i] - z[i]) / inv.lift[i]);
                 double tl = fmax(edge_tol(b, b->coedges[c].edge, tol),
                                  edge_tol(b, b->coedges[n].edge, tol));
-                if (uv_spread(&inv, a, z) > tl && uv_spread(&inv, a, moved) > tl)
+                if (cb_topo_inverter_spread(&inv, a, z) > tl &&
+                    cb_topo_inverter_spread(&inv, a, moved) > tl)
                     st = problem(r, err,
                                  "face %d: loop %d open in (u, v) after coedge %d: (%.6g, %.6g) "
                                  "to (%.6g, %.6g)",
