@@ -1,0 +1,75 @@
+/* mass.h — exact mass properties of B-rep bodies: enclosed volume, boundary area and centroid,
+ * by the divergence theorem over the trimmed faces, independent of any mesh.
+ *
+ * Method. Over a closed shell, V = (1/3) sum over faces of the integral of (x - c) . n dA and
+ * the first moment M = integral of (x - c) dV = (1/4) sum of the integrals of
+ * (x - c) ((x - c) . n) dA, c a reference point (the centre of the body's edge box, which keeps
+ * the digits). On a face with surface S(u, v) over its trimmed domain D, n dA = e S_u x S_v
+ * du dv (e = +1 when the face's same_sense is 1, else -1), and each integral over D of an
+ * integrand f is turned by Green's theorem into integrals along the face's loops in (u, v):
+ *   integral over D of f = e times the loop integral of F dv, F(u, v) = integral from u_ref
+ *   to u of f(s, v) ds (the face's loops run counter-clockwise in (u, v) when same_sense is 1,
+ *   clockwise otherwise),
+ * or, on a face whose loops wind around the u period of its surface (a cylinder bounded by two
+ * circles), the loop integral of -G du with G(u, v) = integral from v_ref to v of f(u, t) dt,
+ * which is periodic in u, so the loops need no closing; an odd number of such loops closes at a
+ * pole (a spherical cap), where v_ref is put so that G vanishes on the pole line. The
+ * directions swap for loops around the v period. Faces whose loops wind around both periods (a
+ * torus in one face) are not handled (CB_ERR_UNSUPPORTED).
+ * The inner integral is adaptive Gauss-Kronrod (7-15 points), split at the knots of B-spline
+ * surfaces; the outer one runs over each coedge's pcurve (cb_topo_coedge_pcurve_range), adaptive
+ * Gauss-Kronrod split at the knots of the pcurve and of the edge and at the knot lines of the
+ * surface it crosses. Pcurves are fitted curves, so every boundary node is moved onto the true
+ * edge: Newton steps from the pcurve's (u, v) to S(u, v) = C(t), C the edge curve at the node's
+ * edge parameter t (the pcurve parameter when the pcurve follows the convention of brep/topo.h,
+ * else the projection of S(pcurve) onto the edge, whose derivative is carried exactly), and
+ * d(u, v)/dt solves [S_u S_v] d(u, v)/dt = C'(t) in least squares (the pcurve's derivative where
+ * the Jacobian is singular, at a pole). The joints between consecutive coedges (pole lines, round-off)
+ * are integrated as straight segments in (u, v), so each loop is closed exactly. The result thus
+ * depends on the surfaces and edge curves alone, not on how well the pcurves were fitted.
+ *
+ * Accuracy: each integral is refined until the Kronrod-Gauss difference is below rel_tol times the
+ * integral of the integrand's magnitude (|f| inside; |F| |d(u, v)/ds| along the loops, so that a
+ * loop integral of F dv along a line v = const, which is round-off, asks nothing), plus 1e-6
+ * rel_tol times the body's size to the integrand's dimension; the inner integrals are asked 100
+ * times finer than the outer ones. The outer integrals are also split where a coedge crosses a
+ * knot line of a B-spline surface (found by sampling the coedge and bisecting), as the inner
+ * integral has a kink there. This keeps the relative error of the results near rel_tol for shells
+ * whose faces do not cancel each other out. Bounds on the work: an interval stops being bisected
+ * when its error estimate is within the noise of the integrand's values, at depth 30, or after
+ * 4000 bisections per integral; the result is then returned as it stands, without a warning.
+ *
+ * Faces run in parallel (cb_parallel_for, ctx->threads) and are summed in face order, so the
+ * results are bit-identical for any thread count. Progress is the fraction of faces done
+ * (stage "mass properties"); a cancel (cb_context_cancel) returns CB_ERR_CANCELLED. */
+#ifndef CB_MASS_H
+#define CB_MASS_H
+
+#include "brep/context.h"
+#include "brep/topo.h"
+
+/* Default relative accuracy. */
+#define CB_MASS_REL_TOL 1e-10
+
+typedef struct {
+    double volume;      /* signed: > 0 for a shell oriented outward, < 0 for a void's shell */
+    double area;        /* area of the faces */
+    double centroid[3]; /* centroid of the enclosed volume (the reference point if volume 0) */
+    double moment[3];   /* first moment: the integral of x dV (world origin) */
+} cb_mass_props;
+
+/* Mass properties of shell k of body b; rel_tol <= 0 selects CB_MASS_REL_TOL. Preconditions,
+ * each reported as CB_ERR_INVALID naming what failed: the incidence index built
+ * (cb_topo_body_index); the shell closed (every edge of its faces used by exactly two of its
+ * coedges); a pcurve on every coedge (cb_topo_compute_pcurves); every loop closed in (u, v)
+ * modulo the surface's periods and pole lines. CB_ERR_UNSUPPORTED for a face with loops
+ * around both periods of its surface, CB_ERR_CANCELLED, CB_ERR_NOMEM. */
+cb_status cb_mass_shell(cb_mass_props *m, const cb_topo_body *b, int k, double rel_tol,
+                        cb_context *ctx, cb_error *err);
+
+/* The same for the whole body: every shell (voids count negative, as their shells face into
+ * the cavity), areas added, centroid of the total volume. */
+cb_status cb_mass_body(cb_mass_props *m, const cb_topo_body *b, double rel_tol, cb_context *ctx,
+                       cb_error *err);
+
+#endif
