@@ -123,7 +123,8 @@ typedef struct {
     double t0, t1;  /* parameter range, t0 < t1 */
     int same_sense; /* curve direction agrees with v[0] -> v[1] */
     int v[2];       /* start and end vertex (equal for a closed edge) */
-    double tol;     /* geometric tolerance of the edge (the file's uncertainty) */
+    double tol;     /* geometric tolerance of the edge: the source's uncertainty, or the
+                       edge's measured deviation from its faces where import raised it */
 } cb_topo_edge;
 
 typedef struct {
@@ -381,7 +382,9 @@ typedef struct {
 void cb_topo_report_init(cb_topo_report *r);
 void cb_topo_report_clear(cb_topo_report *r);
 
-/* Checks the body, appending a sentence per problem to the report:
+/* Checks the body, appending a sentence per problem to the report. Below, "within tol" for
+ * anything belonging to an edge means within the edge's tolerance: the larger of tol and the
+ * edge's own (edge->tol); a loop joint takes the larger of its two edges' tolerances.
  *   - every index in range (cb_topo_body_index);
  *   - closed shells: every edge used by exactly two coedges of the shell, of opposite sense;
  *     open shells: at most two, of opposite sense when two; an edge never used by two shells;

@@ -33,7 +33,8 @@ static const char CHECK_USAGE[] =
     "           self_intersections, bounds_volume, outward, volume, boundary_edges,\n"
     "           nonmanifold_edges, nonmanifold_vertices, misoriented_edges, passed\n"
     "\n"
-    "Exit status: 0 every check passed, 1 a check failed or the file was rejected, 2 bad usage.\n"
+    "Exit status: 0 every check passed, 1 a check failed or could not run, 2 bad usage or a\n"
+    "file that cannot be used (missing, unreadable, malformed, unknown format).\n"
     "\n"
     "example:\n"
     "  colibri check part.stl --json\n";
@@ -123,9 +124,10 @@ int cb_cli_check(int argc, char **argv)
     cb_error_clear(&err);
     cb_mesh_t mesh;
     cb_mesh_init(mesh);
-    if (cb_mesh_read(mesh, path, &err)) {
+    cb_status rs = cb_mesh_read(mesh, path, &err);
+    if (rs) {
         fprintf(stderr, "colibri: %s\n", err.msg);
-        return 1;
+        return cb_cli_input_exit(rs);
     }
     cb_mesh_check_report r;
     cb_status st = cb_mesh_check(&r, mesh, &err);

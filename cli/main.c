@@ -21,7 +21,14 @@ static void usage(FILE *out)
             "  ssi A B       intersection curves of the faces of two STEP models\n"
             "\n"
             "Run 'colibri COMMAND --help' for the options of a command.\n"
-            "Exit status: 0 success, 1 the input was rejected or the work failed, 2 bad usage.\n");
+            "Exit status: 0 success; 1 the command ran and its verdict is negative (model\n"
+            "invalid, mesh check failed, intersection failed or unsupported); 2 bad usage or an\n"
+            "input that cannot be used (missing, unreadable, malformed, wrong format).\n");
+}
+
+int cb_cli_input_exit(cb_status st)
+{
+    return st == CB_ERR_NOMEM ? 1 : 2;
 }
 
 int main(int argc, char **argv)

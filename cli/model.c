@@ -30,7 +30,8 @@ static const char MODEL_USAGE[] =
     "  --translate X Y Z    translation (default none)\n"
     "  --wing-angle DEG     hummingbird: wings raised DEG degrees, in [-30, 50] (default 20)\n"
     "\n"
-    "Exit status: 0 the model was written, 1 it could not be built or written, 2 bad usage.\n"
+    "Exit status: 0 the model was written and is valid, 1 it could not be built or fails\n"
+    "validation, 2 bad usage (including an output file that cannot be written).\n"
     "\n"
     "example (the two overlapping birds of the Boolean scenario):\n"
     "  colibri model hummingbird -o bird_a.step\n"
@@ -65,9 +66,12 @@ static int write_hummingbird(const char *path, const cb_hummingbird_params *p)
     cb_topo_report r;
     cb_topo_report_init(&r);
     int code = 0;
-    if (cb_topo_validate(&r, b, b->tol, 9, &err) || cb_step_write(b, path, "hummingbird", &err)) {
+    if ((st = cb_topo_validate(&r, b, b->tol, 9, &err))) {
         fprintf(stderr, "colibri: %s\n", err.msg);
         code = 1;
+    } else if ((st = cb_step_write(b, path, "hummingbird", &err))) {
+        fprintf(stderr, "colibri: %s\n", err.msg);
+        code = st == CB_ERR_IO ? 2 : 1;
     } else {
         printf("%s: hummingbird: 1 solid, %d faces, %d edges, %d vertices (bicubic B-splines, "
                "6 x 6 control points)\n",

@@ -30,8 +30,10 @@ static const char SSI_USAGE[] =
     "               the diagonal of the models' box)\n"
     "  --threads N  threads for patch pairs (default 0: all hardware threads)\n"
     "\n"
-    "Exit status: 0 every pair was certified, 1 a file was rejected, the work failed or some\n"
-    "pair could not be certified, 2 bad usage.\n";
+    "Exit status: 0 every pair was certified, 1 the work failed (numerically or unsupported)\n"
+    "or some pair could not be certified, 2 bad usage or a file that cannot be used (missing,\n"
+    "unreadable, malformed: the message names file:line and the entity #id), including an\n"
+    "OUT.json that cannot be written.\n";
 
 static double wall_s(void)
 {
@@ -155,10 +157,11 @@ int cb_cli_ssi(int argc, char **argv)
     double t0 = wall_s();
     for (int k = 0; k < 2; k++) {
         cb_error_clear(&err);
-        if (cb_step_read(body + k, files[k], &err) != CB_OK) {
+        cb_status rs = cb_step_read(body + k, files[k], &err);
+        if (rs != CB_OK) {
             fprintf(stderr, "colibri: %s\n", err.msg);
             cb_topo_body_free(body[0]);
-            return 1;
+            return cb_cli_input_exit(rs);
         }
     }
     double t1 = wall_s();
@@ -193,10 +196,10 @@ int cb_cli_ssi(int argc, char **argv)
                    cb_status_name(r->failed[k].status), r->failed[k].msg);
         if (r->n_failed > 20)
             printf("not certified    ... %ld more (see --json)\n", (long)r->n_failed - 20);
-        if (json && !write_json(json, r, t2 - t1))
-            rc = 1;
         if (r->n_failed > 0)
             rc = 1;
+        if (json && !write_json(json, r, t2 - t1))
+            rc = 2;
     }
     cb_ssi_result_clear(r);
     cb_topo_body_free(body[0]);

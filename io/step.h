@@ -14,7 +14,25 @@
  *
  * Units: coordinates stay in the file's length unit; body->length_unit_mm gives its size
  * (SI_UNIT with any prefix, or CONVERSION_BASED_UNIT such as INCH). Angles are converted to
- * radians. The global UNCERTAINTY_MEASURE_WITH_UNIT becomes body->tol and every edge's tol.
+ * radians. The global UNCERTAINTY_MEASURE_WITH_UNIT becomes body->tol and every edge's tol
+ * (1e-6 model units when the file gives none).
+ *
+ * Edge tolerances: files from real CAD systems carry edges farther from their faces than the
+ * uncertainty they declare (linkrods.step: 4.1e-4 against 2e-5). As Open CASCADE's reader does,
+ * once the pcurves are complete each edge's real deviation is measured: the largest distance,
+ * over 65 samples of the edge curve (ends included; 17 where those stay within half the
+ * edge's tolerance), to the surface of every face using it (cb_topo_projector, or the pcurve's
+ * image where that is nearer), the gaps between its curve ends and its vertices, the distance
+ * of its pcurves mapped through their surfaces to the edge (cb_topo_coedge_pcurve_error, 65
+ * samples) and, at each loop joint where the gap between consecutive coedge ends exceeds both
+ * edges' values, that gap for the edge whose end lies farther from the shared vertex. An edge whose
+ * deviation times CB_STEP_EDGE_TOL_MARGIN exceeds its tolerance gets edge->tol = that product
+ * (so points between samples are covered too), provided the deviation is at most the cap
+ * max_edge_tol_rel times the diagonal of the body's edge box (cb_topo_body_edge_box); the
+ * raised value never exceeds the cap. Beyond the cap the edge keeps the file's tolerance and
+ * validation reports it. cb_topo_validate checks each edge against the larger of its tol
+ * argument and edge->tol, so the edges of a body read here that lie within the cap pass its
+ * edge checks at the file's own tolerance.
  *
  * Assemblies: a solid held by a representation that is linked up a tree of
  * (SHAPE_)REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION to a root is moved by the composed
@@ -37,12 +55,52 @@
 
 #include "brep/topo.h"
 
+/* Default cap on measured edge tolerances, relative to the diagonal of the model's edge box.
+ * 1e-4 of the model size is 10 um on a 100 mm part: about what precision machining holds, far
+ * below any feature a Boolean has to resolve, yet above the 7.4e-5 of linkrods.step, a real
+ * file from a real CAD system. Open CASCADE's reader bounds the tolerances it sets by a maximum
+ * too (read.maxprecision, absolute: 1 model unit by default, which is far laxer). */
+#define CB_STEP_MAX_EDGE_TOL_REL 1e-4
+
+/* A raised edge tolerance is this factor times the deviation measured at the samples, so that
+ * points between samples are covered too: on linkrods.step the largest deviation over 1025
+ * samples of an edge exceeds that over the 65 by 1.1 % at most (over 33 samples it would miss
+ * by up to 5.4 %). */
+#define CB_STEP_EDGE_TOL_MARGIN 1.05
+
+typedef struct {
+    double max_edge_tol_rel; /* cap on edge tolerances relative to the edge-box diagonal
+                                (CB_STEP_MAX_EDGE_TOL_REL); 0 leaves every edge at the file's
+                                uncertainty */
+} cb_step_options;
+
+/* What the reader did to the tolerances. */
+typedef struct {
+    int edges_tol_raised; /* edges whose tol was raised to their measured deviation */
+    int edges_over_cap;   /* edges deviating more than the cap (or whose pcurves still stray
+                             beyond the raised tolerance after the rounds of step_tol.c):
+                             left at the file's tol */
+    double max_edge_tol;  /* largest edge tol of the body after reading */
+    double edge_tol_cap;  /* the cap, model units */
+} cb_step_stats;
+
+/* Sets the defaults above. */
+void cb_step_options_init(cb_step_options *opt);
+
 /* Reads the file at path into a new body (*out, released with cb_topo_body_free). On failure
- * *out is NULL. The body is indexed (cb_topo_body_index) but not validated. */
+ * *out is NULL. The body is indexed (cb_topo_body_index) but not validated. Default options. */
 cb_status cb_step_read(cb_topo_body **out, const char *path, cb_error *err);
 
 /* The same from a buffer of len bytes; name is used in messages. */
 cb_status cb_step_read_buffer(cb_topo_body **out, const char *data, size_t len, const char *name,
                               cb_error *err);
+
+/* The two above with options (NULL: defaults) and, when stats is not NULL, what was done to
+ * the edge tolerances (zeroed on failure). */
+cb_status cb_step_read_opt(cb_topo_body **out, const char *path, const cb_step_options *opt,
+                           cb_step_stats *stats, cb_error *err);
+cb_status cb_step_read_buffer_opt(cb_topo_body **out, const char *data, size_t len,
+                                  const char *name, const cb_step_options *opt,
+                                  cb_step_stats *stats, cb_error *err);
 
 #endif

@@ -268,4 +268,12 @@ cb_status step_bspline_surface(step_file *f, const step_rec *r, cb_nurbs_surface
 /* Maps every solid and shell model of the file into f->body, each in its assembly placement. */
 cb_status step_map_body(step_file *f);
 
+/* ---------------------------------------------------------------- step_tol.c --------------- */
+
+/* Raises edge tolerances to the edges' measured deviations up to max_rel times the edge-box
+ * diagonal (step.h); needs the incidence index and the pcurves. Fills all of *stats. Fails
+ * only with CB_ERR_NOMEM. */
+cb_status step_fit_edge_tols(cb_topo_body *b, double max_rel, cb_step_stats *stats,
+                             cb_error *err);
+
 #endif

@@ -1,4 +1,5 @@
-/* Entry points of the STEP reader: load the file, parse, map, index. */
+/* Entry points of the STEP reader: load the file, parse, map, index, complete the pcurves,
+ * fit the edge tolerances. */
 #include <errno.h>
 #include <stdio.h>
 #include <math.h>
@@ -37,8 +38,23 @@ static cb_status complete_pcurves(cb_topo_body *b, cb_error *err)
     return st;
 }
 
-static cb_status read_loaded(cb_topo_body **out, step_file *f)
+void cb_step_options_init(cb_step_options *opt)
 {
+    opt->max_edge_tol_rel = CB_STEP_MAX_EDGE_TOL_REL;
+}
+
+static cb_status read_loaded(cb_topo_body **out, step_file *f, const cb_step_options *opt,
+                             cb_step_stats *stats)
+{
+    cb_step_options defaults;
+    cb_step_stats unused;
+    if (!opt) {
+        cb_step_options_init(&defaults);
+        opt = &defaults;
+    }
+    if (!stats)
+        stats = &unused;
+    memset(stats, 0, sizeof *stats);
     cb_status st = step_parse(f);
     if (!st) {
         f->state = calloc((size_t)f->n_recs + 1, 1);
@@ -54,7 +70,10 @@ static cb_status read_loaded(cb_topo_body **out, step_file *f)
         st = cb_topo_body_index(f->body, f->err);
     if (!st)
         st = complete_pcurves(f->body, f->err);
+    if (!st)
+        st = step_fit_edge_tols(f->body, opt->max_edge_tol_rel, stats, f->err);
     if (st) {
+        memset(stats, 0, sizeof *stats);
         cb_topo_body_free(f->body);
         f->body = NULL;
     }
@@ -66,6 +85,20 @@ static cb_status read_loaded(cb_topo_body **out, step_file *f)
 cb_status cb_step_read_buffer(cb_topo_body **out, const char *data, size_t len, const char *name,
                               cb_error *err)
 {
+    return cb_step_read_buffer_opt(out, data, len, name, NULL, NULL, err);
+}
+
+cb_status cb_step_read(cb_topo_body **out, const char *path, cb_error *err)
+{
+    return cb_step_read_opt(out, path, NULL, NULL, err);
+}
+
+cb_status cb_step_read_buffer_opt(cb_topo_body **out, const char *data, size_t len,
+                                  const char *name, const cb_step_options *opt,
+                                  cb_step_stats *stats, cb_error *err)
+{
+    if (stats)
+        memset(stats, 0, sizeof *stats);
     cb_error local;
     step_file f = {.path = name, .err = err ? err : &local};
     *out = NULL;
@@ -79,11 +112,14 @@ cb_status cb_step_read_buffer(cb_topo_body **out, const char *data, size_t len, 
     memcpy(f.buf, data, len);
     f.buf[len] = '\0';
     f.len = len;
-    return read_loaded(out, &f);
+    return read_loaded(out, &f, opt, stats);
 }
 
-cb_status cb_step_read(cb_topo_body **out, const char *path, cb_error *err)
+cb_status cb_step_read_opt(cb_topo_body **out, const char *path, const cb_step_options *opt,
+                           cb_step_stats *stats, cb_error *err)
 {
+    if (stats)
+        memset(stats, 0, sizeof *stats);
     cb_error local;
     step_file f = {.path = path, .err = err ? err : &local};
     *out = NULL;
@@ -117,5 +153,5 @@ cb_status cb_step_read(cb_topo_body **out, const char *path, cb_error *err)
     }
     f.buf[got] = '\0';
     f.len = got;
-    return read_loaded(out, &f);
+    return read_loaded(out, &f, opt, stats);
 }

@@ -381,21 +381,21 @@ static void test_cli(void)
     cli_expect(args, 1, "\"bounds_volume\": null, \"outward\": null, \"volume\": null");
 
     snprintf(args, sizeof args, "check %s/missing.obj", dir);
-    cli_expect(args, 1, "missing.obj: cannot open");
+    cli_expect(args, 2, "missing.obj: cannot open");
     snprintf(path, sizeof path, "%s/garbage.off", dir);
     FILE *f = fopen(path, "w");
     fputs("this is not an OFF file\n\x01\x02\x03\n", f);
     fclose(f);
     snprintf(args, sizeof args, "check %s", path);
-    cli_expect(args, 1, "garbage.off: ");
+    cli_expect(args, 2, "garbage.off: ");
     snprintf(path, sizeof path, "%s/garbage.stl", dir);
     f = fopen(path, "w");
     fputs("solid nonsense\n  facet normal 0 0 1\n    outer loop\n      vertex 1 2\n", f);
     fclose(f);
     snprintf(args, sizeof args, "check %s", path);
-    cli_expect(args, 1, "garbage.stl: ");
+    cli_expect(args, 2, "garbage.stl: ");
     snprintf(args, sizeof args, "check %s/box.step", dir);
-    cli_expect(args, 1, "unknown mesh format");
+    cli_expect(args, 2, "unknown mesh format");
 
     snprintf(args, sizeof args, "rm -rf %s", dir);
     CHECK(system(args) == 0, "cannot remove %s", dir);

@@ -529,7 +529,7 @@ static void test_command(void)
     cli_expect(args, 2, "--scale");
     snprintf(args, sizeof args, "model hummingbird -o %s --rotate 0 0 1", path);
     cli_expect(args, 2, "--rotate");
-    cli_expect("model hummingbird -o /nonexistent/dir/bird.step", 1, "cannot create");
+    cli_expect("model hummingbird -o /nonexistent/dir/bird.step", 2, "cannot create");
     snprintf(args, sizeof args,
              "model hummingbird -o %s --scale 2 --rotate 0.2 0.3 1 40 --translate 0.8 0.5 0.3 "
              "--wing-angle 5",
