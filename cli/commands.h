@@ -12,6 +12,7 @@ int cb_cli_info(int argc, char **argv);
 int cb_cli_model(int argc, char **argv);
 int cb_cli_check(int argc, char **argv);
 int cb_cli_ssi(int argc, char **argv);
+int cb_cli_mesh(int argc, char **argv);
 
 /* Exit status for a file that could not be read or written with status st: 2 (the input
  * cannot be used), except 1 when memory ran out. */

@@ -19,6 +19,8 @@ static void usage(FILE *out)
             "  check MESH    check that a mesh (.stl, .obj, .ply, .off) is closed, manifold,\n"
             "                outward and free of self-intersections; print its volume\n"
             "  ssi A B       intersection curves of the faces of two STEP models\n"
+            "  mesh MODEL    tessellate a STEP model into a checked watertight mesh\n"
+            "                (-o OUT.stl|obj|ply|off, --tol T)\n"
             "\n"
             "Run 'colibri COMMAND --help' for the options of a command.\n"
             "Exit status: 0 success; 1 the command ran and its verdict is negative (model\n"
@@ -54,6 +56,8 @@ int main(int argc, char **argv)
         return cb_cli_check(argc - 1, argv + 1);
     if (!strcmp(cmd, "ssi"))
         return cb_cli_ssi(argc - 1, argv + 1);
+    if (!strcmp(cmd, "mesh"))
+        return cb_cli_mesh(argc - 1, argv + 1);
     fprintf(stderr, "colibri: unknown command '%s'\n", cmd);
     usage(stderr);
     return 2;

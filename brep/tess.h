@@ -1,0 +1,131 @@
+/* tess.h — watertight triangle meshes of B-rep bodies.
+ *
+ * Method. Every edge is sampled once (cb_tess_edges_sample) by chordal and angular tolerance;
+ * the faces on both sides use the same samples, so neighbouring faces meet vertex for vertex
+ * and the mesh is closed by construction, not by welding. Each face is then triangulated in
+ * its parameter domain (cb_tess_face): the edge samples are placed in (u, v) through the
+ * coedges' pcurves (refined by point inversion on the surface), the loops become the
+ * constrained edges of a constrained Delaunay triangulation (exact orientation predicates) in
+ * a per-face scaled metric (u and v weighted by the mean |S_u| and |S_v| on the boundary, so
+ * that parameter lengths approximate 3D lengths), and triangles are split at their centroid
+ * until the surface lies within the chordal tolerance of every triangle (at its centroid and
+ * the midpoints of its inner sides) and the surface normals at its corners and centroid lie
+ * within the angular tolerance of its normal. Boundary samples are never moved or added to, so
+ * refinement cannot break watertightness.
+ *
+ * Special places. A seam edge (used twice by one face) has its samples on both sides of the
+ * (u, v) domain, mapped to the same 3D vertices. A pole or apex (a collapsed edge, or a jump of
+ * a loop along a line of the surface that collapses to one point) is one 3D vertex: the
+ * triangles that would join two of its (u, v) copies are dropped. Triangles are oriented
+ * counter-clockwise in (u, v) when the face's same_sense is 1 (normal S_u x S_v), clockwise
+ * otherwise, so a correctly oriented closed shell gives an outward mesh.
+ *
+ * Refinement stops short of the tolerances in two places, where no insertion could help: a
+ * flat triangle on a boundary side (its error is the boundary samples'), and, for the normal
+ * test only, triangles shorter than twice the chordal tolerance (a C0 crease of a B-spline
+ * would be chased forever).
+ *
+ * Limits. A loop that wraps around a periodic surface without a seam edge (a cylinder band
+ * bounded by two circles only) and a face without loops (a whole sphere or torus) are refused
+ * with CB_ERR_UNSUPPORTED naming the face: STEP writers and brep/prim.h cut such faces along
+ * seams. Coedges without a pcurve are placed by inverting their samples on the surface, each
+ * from the previous one, which is right for surfaces without periods; but edge sampling then
+ * cannot see the faces' surfaces, so compute pcurves first (cb_topo_compute_pcurves: the
+ * hummingbird needs it; STEP import does it).
+ *
+ * Known defect. At tolerances well below the default, some faces get fans of needle
+ * triangles (area / longest side^2 down to 1e-7) around a boundary vertex, which CGAL reports
+ * as self-intersections (measured: linkrods.step at 0.3x the default chord, the hummingbird at
+ * 0.5x); the default and coarser tolerances pass on every shipped model. Probable cause: the
+ * metric is one scaling per face, so where a parameterisation is far from it, triangles well
+ * shaped in (u, v) are needles in 3D. */
+#ifndef CB_TESS_H
+#define CB_TESS_H
+
+#include "brep/context.h"
+#include "brep/mesh.h"
+#include "brep/topo.h"
+
+/* Default chordal tolerance: this fraction of the diagonal of the body's edge box. */
+#define CB_TESS_REL_CHORD 1e-3
+/* Default angular tolerance, radians (20 degrees). */
+#define CB_TESS_ANGLE 0.3490658503988659
+
+typedef struct {
+    double chord_tol; /* largest distance between surface and mesh, model units; <= 0: the
+                         relative default CB_TESS_REL_CHORD */
+    double angle_tol; /* largest angle between surface and triangle normals, and between edge
+                         tangents at consecutive samples, radians in (0, pi/2]; <= 0:
+                         CB_TESS_ANGLE */
+    double max_edge;  /* longest triangle side, model units; 0: no limit */
+} cb_tess_opts;
+
+/* chord_tol = 0, angle_tol = 0 (the defaults), max_edge = 0. */
+void cb_tess_opts_init(cb_tess_opts *o);
+
+/* The options with the defaults filled in for body b (chord_tol from its edge box).
+ * CB_ERR_INVALID, naming the field, for a NaN or infinite value, angle_tol > pi/2, a negative
+ * max_edge, or a body whose edge box is empty or infinite when the default is needed. */
+cb_status cb_tess_opts_resolve(cb_tess_opts *out, const cb_tess_opts *o, const cb_topo_body *b,
+                               cb_error *err);
+
+/* The samples of every edge of a body, shared by the faces that use the edge. Points 0 ..
+ * n_vertices - 1 are the body's vertices (same index), the interior samples of the edges
+ * follow. Edge e's samples, in increasing curve parameter, are ids[start[e] .. start[e + 1])
+ * at parameters t[...] (its first and last are the vertices at the curve's ends; a collapsed
+ * edge, a pole or an apex, has its two end samples only, both its vertex). */
+typedef struct {
+    int n_points;
+    double *xyz; /* 3 per point */
+    int n_edges;
+    int *start; /* n_edges + 1 */
+    int *ids;
+    double *t;
+} cb_tess_edges;
+
+void cb_tess_edges_init(cb_tess_edges *es);
+void cb_tess_edges_clear(cb_tess_edges *es);
+
+/* Samples every edge of b by the resolved options o: a piece of curve is halved until its
+ * chord lies within chord_tol of the curve (at its midpoint and quarter points), the tangents
+ * at its ends differ by at most angle_tol, it is no longer than max_edge, and, on each face
+ * using the edge through a pcurve, the surface image of the straight (u, v) segment between
+ * its ends stays within chord_tol of the chord and the surface normals at its ends differ by
+ * at most angle_tol (pieces longer than 2 chord_tol only); closed edges start from three
+ * pieces. Needs cb_topo_body_index. CB_ERR_INVALID from the surfaces, CB_ERR_CANCELLED,
+ * CB_ERR_NOMEM. */
+cb_status cb_tess_edges_sample(cb_tess_edges *es, const cb_topo_body *b, const cb_tess_opts *o,
+                               cb_context *ctx, cb_error *err);
+
+/* The triangles of one face. Vertex index i < es->n_points is the shared edge sample i; index
+ * es->n_points + k is the face's own point k (xyz[3k ..]). */
+typedef struct {
+    int n_points;
+    double *xyz;
+    int n_tris;
+    int *tri;
+    int cap_points, cap_tris;
+} cb_tess_face_mesh;
+
+void cb_tess_face_mesh_init(cb_tess_face_mesh *fm);
+void cb_tess_face_mesh_clear(cb_tess_face_mesh *fm);
+
+/* Triangulates face `face` of b (see the method above) with the edge samples es made with the
+ * same resolved options o; fm is replaced. Errors name the face: CB_ERR_UNSUPPORTED (see the
+ * limits above), CB_ERR_NUMERIC when the loops do not close in (u, v) on the surface within
+ * the body's tolerance or the triangulation fails, CB_ERR_CANCELLED, CB_ERR_NOMEM. */
+cb_status cb_tess_face(cb_tess_face_mesh *fm, const cb_topo_body *b, int face,
+                       const cb_tess_edges *es, const cb_tess_opts *o, cb_context *ctx,
+                       cb_error *err);
+
+/* Tessellates every face of b into out (replaced): edge samples, then the faces in parallel
+ * (cb_parallel_for, ctx's thread count), assembled in face order, so the result is the same,
+ * bit for bit, for any number of threads. Vertices: the edge samples used by some triangle, in
+ * sample order, then each face's own points, face by face. o NULL: the defaults. Progress
+ * (stage "tessellate") after each face; cancellation is checked between faces and refinement
+ * passes (CB_ERR_CANCELLED, out empty). Needs cb_topo_body_index. Errors as cb_tess_face
+ * and cb_tess_opts_resolve; out is empty on failure. */
+cb_status cb_tess_body(cb_mesh_t out, const cb_topo_body *b, const cb_tess_opts *o,
+                       cb_context *ctx, cb_error *err);
+
+#endif

@@ -1,0 +1,551 @@
+/* Triangulation of one trimmed face in its parameter domain (see tess.h for the method). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "brep/geom.h"
+#include "brep/tess.h"
+#include "brep/tess_internal.h"
+
+/* Refinement stops here: a face needing more points than this is refused (CB_ERR_NUMERIC)
+ * rather than exhausting memory on a tolerance far below the model's precision. */
+#define FACE_MAX_POINTS 4000000
+#define FACE_MAX_PASSES 80
+
+void cb_tess_face_mesh_init(cb_tess_face_mesh *fm)
+{
+    memset(fm, 0, sizeof *fm);
+}
+
+void cb_tess_face_mesh_clear(cb_tess_face_mesh *fm)
+{
+    free(fm->xyz);
+    free(fm->tri);
+    cb_tess_face_mesh_init(fm);
+}
+
+/* ---------------------------------------------------------------- boundary loops ----------- */
+
+typedef struct {
+    double *uv; /* 2 per point, unscaled parameters */
+    int *id;    /* shared sample */
+    int n, cap;
+    int *loop_end; /* loop k is [loop_end[k - 1], loop_end[k]) */
+    int n_loops;
+} face_loops;
+
+static void loops_clear(face_loops *L)
+{
+    free(L->uv);
+    free(L->id);
+    free(L->loop_end);
+}
+
+static int loops_push(face_loops *L, const double uv[2], int id)
+{
+    if (L->n == L->cap) {
+        int c = L->cap ? 2 * L->cap : 256;
+        double *nu = realloc(L->uv, (size_t)c * 2 * sizeof(double));
+        if (!nu)
+            return 0;
+        L->uv = nu;
+        int *ni = realloc(L->id, (size_t)c * sizeof(int));
+        if (!ni)
+            return 0;
+        L->id = ni;
+        L->cap = c;
+    }
+    L->uv[2 * L->n] = uv[0];
+    L->uv[2 * L->n + 1] = uv[1];
+    L->id[L->n++] = id;
+    return 1;
+}
+
+/* Equal up to the rounding of two inversions of one point. */
+static int same_uv(const double a[2], const double b[2])
+{
+    return fabs(a[0] - b[0]) <= 1e-9 * (1 + fabs(a[0])) &&
+           fabs(a[1] - b[1]) <= 1e-9 * (1 + fabs(a[1]));
+}
+
+/* The shift by whole lifts that brings a onto b, if there is one other than zero. */
+static int lifted_onto(double shift[2], const double a[2], const double b[2],
+                       const cb_topo_inverter *inv)
+{
+    double c[2];
+    for (int i = 0; i < 2; i++) {
+        shift[i] = inv->lift[i] > 0 ? inv->lift[i] * nearbyint((b[i] - a[i]) / inv->lift[i]) : 0;
+        c[i] = a[i] + shift[i];
+    }
+    return (shift[0] != 0 || shift[1] != 0) && same_uv(c, b);
+}
+
+/* Appends the samples of coedge c in traversal order, placed in (u, v). */
+static cb_status coedge_points(face_loops *L, const cb_topo_body *b, int c,
+                               const cb_tess_edges *es, const cb_topo_inverter *inv, int have_prev,
+                               double gap_tol, cb_error *err)
+{
+    const cb_topo_coedge *co = &b->coedges[c];
+    const cb_topo_edge *E = &b->edges[co->edge];
+    int first = es->start[co->edge], m = es->start[co->edge + 1] - first;
+    const int *ids = es->ids + first;
+    const double *ts = es->t + first;
+    int fwd = (co->sense != 0) == (E->same_sense != 0);
+    const cb_topo_curve *pc = co->pcurve >= 0 ? &b->pcurves[co->pcurve] : NULL;
+    double s0 = 0, s1 = 0, ta = fwd ? ts[0] : ts[m - 1], tb = fwd ? ts[m - 1] : ts[0];
+    if (pc)
+        cb_topo_coedge_pcurve_range(&s0, &s1, b, c, inv, fmax(b->tol, E->tol));
+    double shift[2] = {0, 0}, prev[2] = {0, 0};
+    if (have_prev) {
+        prev[0] = L->uv[2 * (L->n - 1)];
+        prev[1] = L->uv[2 * (L->n - 1) + 1];
+    }
+    for (int k = 0; k < m; k++) {
+        int idx = fwd ? k : m - 1 - k;
+        const double *P = es->xyz + 3 * ids[idx];
+        double uv[2], guess[2];
+        const double *g = NULL;
+        if (pc) {
+            double w[3], s = tb != ta ? s0 + (ts[idx] - ta) / (tb - ta) * (s1 - s0) : s0;
+            cb_topo_pcurve_eval(w, pc, s);
+            guess[0] = w[0];
+            guess[1] = w[1];
+            /* Files lift single pcurves by whole periods (a sphere's latitude by 2 pi): move
+             * this coedge onto the end of the previous one when a lift makes them meet. */
+            if (k == 0 && have_prev) {
+                double sh[2];
+                if (lifted_onto(sh, guess, prev, inv)) {
+                    shift[0] = sh[0];
+                    shift[1] = sh[1];
+                }
+            }
+            guess[0] += shift[0];
+            guess[1] += shift[1];
+            g = guess;
+        } else if (have_prev || k > 0) {
+            g = prev;
+        }
+        cb_topo_inverter_invert(uv, inv, P, g);
+        if (!(isfinite(uv[0]) && isfinite(uv[1])))
+            return cb_error_set(err, CB_ERR_NUMERIC, "coedge %d: sample %d has no (u, v)", c,
+                                k);
+        int last = L->n - 1;
+        if (k == 0 && have_prev) {
+            if (L->id[last] != ids[idx])
+                return cb_error_set(err, CB_ERR_NUMERIC,
+                                    "coedge %d does not start where the previous one ends", c);
+            if (cb_topo_inverter_spread(inv, L->uv + 2 * last, uv) > gap_tol)
+                return cb_error_set(err, CB_ERR_NUMERIC,
+                                    "gap in (u, v) before coedge %d: (%g, %g) to (%g, %g)", c,
+                                    L->uv[2 * last], L->uv[2 * last + 1], uv[0], uv[1]);
+        }
+        int dup = (have_prev || k > 0) && L->id[last] == ids[idx] && same_uv(L->uv + 2 * last, uv);
+        if (!dup && !loops_push(L, uv, ids[idx]))
+            return cb_error_set(err, CB_ERR_NOMEM, "out of memory");
+        prev[0] = uv[0];
+        prev[1] = uv[1];
+    }
+    return CB_OK;
+}
+
+/* The loops of a face as closed polygons in (u, v) (the closing segment implied). A junction
+ * of two coedges at different (u, v) must lie on a line of the surface that collapses to the
+ * junction's vertex (a pole): its spread on the surface must stay within gap_tol. */
+static cb_status build_loops(face_loops *L, const cb_topo_body *b, int face,
+                             const cb_tess_edges *es, const cb_topo_inverter *inv, double gap_tol,
+                             cb_error *err)
+{
+    const cb_topo_face *F = &b->faces[face];
+    L->loop_end = malloc((size_t)(F->count + 1) * sizeof(int));
+    if (!L->loop_end)
+        return cb_error_set(err, CB_ERR_NOMEM, "out of memory");
+    for (int l = 0; l < F->count; l++) {
+        const cb_topo_loop *lp = &b->loops[F->first + l];
+        int start = L->n;
+        for (int k = 0; k < lp->count; k++) {
+            int c = lp->first + k;
+            cb_status st = coedge_points(L, b, c, es, inv, k > 0, gap_tol, err);
+            if (st)
+                return cb_error_prefix(err, "loop %d: ", F->first + l);
+        }
+        if (L->n - start >= 2) {
+            int last = L->n - 1;
+            const double *a = L->uv + 2 * last, *z = L->uv + 2 * start;
+            double sh[2];
+            if (L->id[last] != L->id[start])
+                return cb_error_set(err, CB_ERR_NUMERIC, "loop %d is not closed",
+                                    F->first + l);
+            if (same_uv(a, z))
+                L->n--;
+            else if (lifted_onto(sh, a, z, inv))
+                return cb_error_set(err, CB_ERR_UNSUPPORTED,
+                                    "loop %d wraps around the periodic surface without a seam "
+                                    "edge",
+                                    F->first + l);
+            else if (cb_topo_inverter_spread(inv, a, z) > gap_tol)
+                return cb_error_set(err, CB_ERR_NUMERIC,
+                                    "loop %d does not close in (u, v): (%g, %g) to (%g, %g)",
+                                    F->first + l, a[0], a[1], z[0], z[1]);
+        }
+        if (L->n - start < 3)
+            return cb_error_set(err, CB_ERR_NUMERIC, "loop %d has fewer than 3 points in (u, v)",
+                                F->first + l);
+        L->loop_end[L->n_loops++] = L->n;
+    }
+    return CB_OK;
+}
+
+/* ---------------------------------------------------------------- refinement --------------- */
+
+typedef struct {
+    const cb_topo_body *b;
+    const cb_topo_inverter *inv;
+    const cb_tess_opts *o;
+    const double *es_xyz; /* the shared samples */
+    double su, sv;   /* metric: x = su u, y = sv v */
+    double sign;     /* +1: face normal S_u x S_v */
+    double cos_tol;  /* cos(angle_tol) */
+    double min_side; /* triangles smaller than this are never split */
+    double min_normal_side; /* nor split for their normals when smaller than this */
+    cb_tess_cdt d;
+    int *gid;      /* per triangulation point: shared sample, -1 own point, -2 enclosing */
+    double *xyz;   /* per point, 3D */
+    double *nrm;   /* per point, unit face normal or 0 where the surface is singular */
+    int cap;
+} face_work;
+
+static void work_clear(face_work *w)
+{
+    cb_tess_cdt_clear(&w->d);
+    free(w->gid);
+    free(w->xyz);
+    free(w->nrm);
+}
+
+/* Unit face normal from surface derivatives; 0 where S_u x S_v vanishes (a pole). */
+static void face_normal(double n[3], const double d[6][3], double sign)
+{
+    cb_vec3_cross(n, d[1], d[2]);
+    double l = cb_vec3_norm(n), s = cb_vec3_norm(d[1]) * cb_vec3_norm(d[2]);
+    if (!(l > 1e-10 * s) || !(l > 0)) {
+        n[0] = n[1] = n[2] = 0;
+        return;
+    }
+    for (int i = 0; i < 3; i++)
+        n[i] *= sign / l;
+}
+
+/* Records the data of triangulation point k (just inserted). */
+static cb_status point_data(face_work *w, int k, int gid, const double *xyz, cb_error *err)
+{
+    if (k >= w->cap) {
+        int c = w->cap ? 2 * w->cap : 256;
+        while (c <= k)
+            c *= 2;
+        int *ng = realloc(w->gid, (size_t)c * sizeof(int));
+        if (ng)
+            w->gid = ng;
+        double *nx = realloc(w->xyz, (size_t)c * 3 * sizeof(double));
+        if (nx)
+            w->xyz = nx;
+        double *nn = realloc(w->nrm, (size_t)c * 3 * sizeof(double));
+        if (nn)
+            w->nrm = nn;
+        if (!ng || !nx || !nn)
+            return cb_error_set(err, CB_ERR_NOMEM, "out of memory");
+        w->cap = c;
+    }
+    w->gid[k] = gid;
+    if (gid == -2) {
+        memset(w->xyz + 3 * k, 0, sizeof(double[3]));
+        memset(w->nrm + 3 * k, 0, sizeof(double[3]));
+        return CB_OK;
+    }
+    double uv[2] = {w->d.p[2 * k] / w->su, w->d.p[2 * k + 1] / w->sv}, der[6][3];
+    cb_topo_inverter_eval_derivs(der, w->inv, uv[0], uv[1]);
+    memcpy(w->xyz + 3 * k, xyz ? xyz : der[0], sizeof(double[3]));
+    face_normal(w->nrm + 3 * k, der, w->sign);
+    return CB_OK;
+}
+
+static double dist_mid(const face_work *w, const double x[2], const double *p, const double *q,
+                       const double *r)
+{
+    double s[3], m[3];
+    cb_topo_inverter_eval(s, w->inv, x[0] / w->su, x[1] / w->sv);
+    int n = r ? 3 : 2;
+    for (int i = 0; i < 3; i++)
+        m[i] = (p[i] + q[i] + (r ? r[i] : 0)) / n;
+    return cb_vec3_dist(s, m);
+}
+
+/* Whether triangle t is too far from the surface, or too steep against it. */
+static int needs_split(const face_work *w, int t)
+{
+    const cb_tess_tri *T = &w->d.t[t];
+    const double *P[3], *X[3];
+    for (int k = 0; k < 3; k++) {
+        if (w->gid[T->v[k]] < -1)
+            return 0;
+        P[k] = w->xyz + 3 * T->v[k];
+        X[k] = w->d.p + 2 * T->v[k];
+    }
+    if (w->gid[T->v[0]] >= 0 && (w->gid[T->v[0]] == w->gid[T->v[1]] ||
+                                 w->gid[T->v[0]] == w->gid[T->v[2]]))
+        return 0;
+    if (w->gid[T->v[1]] >= 0 && w->gid[T->v[1]] == w->gid[T->v[2]])
+        return 0;
+    double e1[3], e2[3], N[3], longest = 0;
+    for (int k = 0; k < 3; k++) {
+        longest = fmax(longest, cb_vec3_dist(P[k], P[(k + 1) % 3]));
+        e1[k] = P[1][k] - P[0][k];
+        e2[k] = P[2][k] - P[0][k];
+    }
+    if (longest < w->min_side)
+        return 0;
+    /* A flat triangle on a boundary side: its error comes from the boundary samples, which
+     * refinement may not move; splitting it would only crowd points against the side. */
+    double area2 = fabs((X[1][0] - X[0][0]) * (X[2][1] - X[0][1]) -
+                        (X[1][1] - X[0][1]) * (X[2][0] - X[0][0]));
+    for (int k = 0; k < 3; k++) {
+        if (!T->c[k])
+            continue;
+        const double *A = X[(k + 1) % 3], *B = X[(k + 2) % 3];
+        double side2 = (B[0] - A[0]) * (B[0] - A[0]) + (B[1] - A[1]) * (B[1] - A[1]);
+        if (area2 < 0.125 * side2)
+            return 0;
+    }
+    if (w->o->max_edge > 0 && longest > w->o->max_edge)
+        return 1;
+    /* The triangle's normal as emitted: flipped with the face. */
+    cb_vec3_cross(N, e1, e2);
+    if (!(cb_vec3_normalize(N) > 0))
+        return 1;
+    for (int k = 0; k < 3; k++)
+        N[k] *= w->sign;
+    double c[2] = {(X[0][0] + X[1][0] + X[2][0]) / 3, (X[0][1] + X[1][1] + X[2][1]) / 3};
+    if (dist_mid(w, c, P[0], P[1], P[2]) > w->o->chord_tol)
+        return 1;
+    for (int k = 0; k < 3; k++) {
+        if (T->c[k])
+            continue;
+        int i = (k + 1) % 3, j = (k + 2) % 3;
+        double m[2] = {0.5 * (X[i][0] + X[j][0]), 0.5 * (X[i][1] + X[j][1])};
+        if (dist_mid(w, m, P[i], P[j], NULL) > w->o->chord_tol)
+            return 1;
+    }
+    if (longest < w->min_normal_side)
+        return 0;
+    for (int k = 0; k < 3; k++) {
+        const double *n = w->nrm + 3 * T->v[k];
+        if ((n[0] != 0 || n[1] != 0 || n[2] != 0) && cb_vec3_dot(n, N) < w->cos_tol)
+            return 1;
+    }
+    double der[6][3], n[3];
+    cb_topo_inverter_eval_derivs(der, w->inv, c[0] / w->su, c[1] / w->sv);
+    face_normal(n, der, w->sign);
+    return (n[0] != 0 || n[1] != 0 || n[2] != 0) && cb_vec3_dot(n, N) < w->cos_tol;
+}
+
+static cb_status refine(face_work *w, cb_context *ctx, cb_error *err)
+{
+    double *cand = NULL;
+    int cap = 0;
+    cb_status st = CB_OK;
+    for (int pass = 0; pass < FACE_MAX_PASSES; pass++) {
+        if (cb_context_cancelled(ctx)) {
+            st = cb_error_set(err, CB_ERR_CANCELLED, "cancelled");
+            break;
+        }
+        int n = 0;
+        for (int t = 0; t < w->d.nt; t++) {
+            if (!w->d.t[t].in || !needs_split(w, t))
+                continue;
+            if (n == cap) {
+                cap = cap ? 2 * cap : 256;
+                double *nc = realloc(cand, (size_t)cap * 2 * sizeof(double));
+                if (!nc) {
+                    st = cb_error_set(err, CB_ERR_NOMEM, "out of memory");
+                    break;
+                }
+                cand = nc;
+            }
+            const cb_tess_tri *T = &w->d.t[t];
+            for (int i = 0; i < 2; i++)
+                cand[2 * n + i] = (w->d.p[2 * T->v[0] + i] + w->d.p[2 * T->v[1] + i] +
+                                   w->d.p[2 * T->v[2] + i]) /
+                                  3;
+            n++;
+        }
+        if (st || n == 0)
+            break;
+        if (w->d.np + n > FACE_MAX_POINTS) {
+            st = cb_error_set(err, CB_ERR_NUMERIC,
+                              "more than %d points needed for the tolerances", FACE_MAX_POINTS);
+            break;
+        }
+        for (int k = 0; k < n && !st; k++) {
+            int idx, before = w->d.np;
+            st = cb_tess_cdt_insert(&w->d, cand[2 * k], cand[2 * k + 1], 1, &idx, err);
+            if (!st && idx >= before)
+                st = point_data(w, idx, -1, NULL, err);
+        }
+        if (st)
+            break;
+    }
+    free(cand);
+    return st;
+}
+
+/* ---------------------------------------------------------------- the face ----------------- */
+
+static cb_status triangulate(face_work *w, const face_loops *L, cb_error *err)
+{
+    double box[4] = {HUGE_VAL, -HUGE_VAL, HUGE_VAL, -HUGE_VAL};
+    for (int k = 0; k < L->n; k++) {
+        double x = L->uv[2 * k] * w->su, y = L->uv[2 * k + 1] * w->sv;
+        box[0] = fmin(box[0], x);
+        box[1] = fmax(box[1], x);
+        box[2] = fmin(box[2], y);
+        box[3] = fmax(box[3], y);
+    }
+    if (!(box[1] > box[0]) || !(box[3] > box[2]))
+        return cb_error_set(err, CB_ERR_NUMERIC, "the loops span no area in (u, v)");
+    cb_status st = cb_tess_cdt_init(&w->d, box, err);
+    for (int k = 0; k < 3 && !st; k++)
+        st = point_data(w, k, -2, NULL, err);
+    int *map = malloc((size_t)(L->n + 1) * sizeof(int));
+    if (!st && !map)
+        st = cb_error_set(err, CB_ERR_NOMEM, "out of memory");
+    for (int k = 0; k < L->n && !st; k++) {
+        int before = w->d.np;
+        st = cb_tess_cdt_insert(&w->d, L->uv[2 * k] * w->su, L->uv[2 * k + 1] * w->sv, 0, &map[k],
+                                err);
+        if (st)
+            break;
+        /* Boundary points keep the shared sample's exact coordinates. */
+        if (map[k] >= before)
+            st = point_data(w, map[k], L->id[k], w->es_xyz + 3 * L->id[k], err);
+        else if (w->gid[map[k]] != L->id[k])
+            st = cb_error_set(err, CB_ERR_NUMERIC,
+                              "two boundary samples at the same (u, v) (%g, %g)", L->uv[2 * k],
+                              L->uv[2 * k + 1]);
+    }
+    for (int l = 0, start = 0; l < L->n_loops && !st; start = L->loop_end[l++])
+        for (int k = start; k < L->loop_end[l] && !st; k++) {
+            int next = k + 1 < L->loop_end[l] ? k + 1 : start;
+            st = cb_tess_cdt_constrain(&w->d, map[k], map[next], err);
+        }
+    free(map);
+    if (st)
+        return st;
+    cb_tess_cdt_delaunay(&w->d);
+    return cb_tess_cdt_classify(&w->d, err);
+}
+
+static cb_status emit(cb_tess_face_mesh *fm, const face_work *w, int n_shared, int same_sense,
+                      cb_error *err)
+{
+    int *local = malloc((size_t)w->d.np * sizeof(int));
+    int n_own = 0, n_tri = 0;
+    if (!local)
+        return cb_error_set(err, CB_ERR_NOMEM, "out of memory");
+    for (int k = 0; k < w->d.np; k++)
+        local[k] = w->gid[k] >= 0 ? w->gid[k] : w->gid[k] == -1 ? n_shared + n_own++ : -1;
+    for (int t = 0; t < w->d.nt; t++)
+        n_tri += w->d.t[t].in;
+    fm->xyz = malloc((size_t)(n_own + 1) * 3 * sizeof(double));
+    fm->tri = malloc((size_t)(n_tri + 1) * 3 * sizeof(int));
+    if (!fm->xyz || !fm->tri) {
+        free(local);
+        return cb_error_set(err, CB_ERR_NOMEM, "out of memory");
+    }
+    fm->cap_points = n_own + 1;
+    fm->cap_tris = n_tri + 1;
+    for (int k = 0; k < w->d.np; k++)
+        if (w->gid[k] == -1)
+            memcpy(fm->xyz + 3 * fm->n_points++, w->xyz + 3 * k, sizeof(double[3]));
+    for (int t = 0; t < w->d.nt; t++) {
+        const cb_tess_tri *T = &w->d.t[t];
+        if (!T->in)
+            continue;
+        int a = local[T->v[0]], b = local[T->v[1]], c = local[T->v[2]];
+        if (a < 0 || b < 0 || c < 0 || a == b || b == c || a == c)
+            continue; /* two copies of a pole */
+        int *o = fm->tri + 3 * fm->n_tris++;
+        o[0] = a;
+        o[1] = same_sense ? b : c;
+        o[2] = same_sense ? c : b;
+    }
+    free(local);
+    return CB_OK;
+}
+
+static cb_status face_run(cb_tess_face_mesh *fm, const cb_topo_body *b, int face,
+                          const cb_tess_edges *es, const cb_tess_opts *o, cb_context *ctx,
+                          const cb_topo_inverter *inv, cb_error *err)
+{
+    const cb_topo_face *F = &b->faces[face];
+    if (F->count == 0)
+        return cb_error_set(err, CB_ERR_UNSUPPORTED,
+                            "no loops (a closed surface not cut along a seam)");
+    face_loops L = {0};
+    face_work w;
+    memset(&w, 0, sizeof w);
+    cb_status st = build_loops(&L, b, face, es, inv, fmax(o->chord_tol, b->tol), err);
+    if (!st) {
+        double su = 0, sv = 0;
+        for (int k = 0; k < L.n; k++) {
+            double d[6][3];
+            cb_topo_inverter_eval_derivs(d, inv, L.uv[2 * k], L.uv[2 * k + 1]);
+            su += cb_vec3_norm(d[1]);
+            sv += cb_vec3_norm(d[2]);
+        }
+        w.su = su > 0 ? su / L.n : sv > 0 ? sv / L.n : 1;
+        w.sv = sv > 0 ? sv / L.n : w.su;
+        w.b = b;
+        w.inv = inv;
+        w.o = o;
+        w.es_xyz = es->xyz;
+        w.sign = F->same_sense ? 1 : -1;
+        w.cos_tol = cos(o->angle_tol);
+        /* Below the chordal tolerance a normal error is invisible, and chasing one across a
+         * crease of the surface (a C0 knot line) would never end. */
+        w.min_side = 0.1 * o->chord_tol;
+        w.min_normal_side = 2 * o->chord_tol;
+        st = triangulate(&w, &L, err);
+    }
+    if (!st)
+        st = refine(&w, ctx, err);
+    if (!st)
+        st = emit(fm, &w, es->n_points, F->same_sense, err);
+    loops_clear(&L);
+    work_clear(&w);
+    return st;
+}
+
+cb_status cb_tess_face(cb_tess_face_mesh *fm, const cb_topo_body *b, int face,
+                       const cb_tess_edges *es, const cb_tess_opts *o, cb_context *ctx,
+                       cb_error *err)
+{
+    cb_tess_face_mesh_clear(fm);
+    if (face < 0 || face >= b->n_faces)
+        return cb_error_set(err, CB_ERR_INVALID, "tessellation: face %d out of range [0, %d)",
+                            face, b->n_faces);
+    if (es->n_edges != b->n_edges)
+        return cb_error_set(err, CB_ERR_INVALID,
+                            "tessellation: edge samples of another body (%d edges, not %d)",
+                            es->n_edges, b->n_edges);
+    cb_topo_inverter inv;
+    cb_status st = cb_topo_inverter_init(&inv, &b->surfaces[b->faces[face].surface], b->tol, err);
+    if (!st) {
+        st = face_run(fm, b, face, es, o, ctx, &inv, err);
+        cb_topo_inverter_clear(&inv);
+    }
+    if (st) {
+        cb_tess_face_mesh_clear(fm);
+        if (st != CB_ERR_CANCELLED)
+            cb_error_prefix(err, "tessellation: face %d: ", face);
+    }
+    return st;
+}
