@@ -21,6 +21,15 @@
  * A patch pair the topology stage cannot certify (CB_ERR_UNSUPPORTED, CB_ERR_NUMERIC, or phi
  * of a degree above opts.max_phi_degree) is listed in the result, never dropped silently.
  *
+ * Spline/spline patch pairs whose phi would exceed opts.max_phi_degree (bicubic x bicubic: 54)
+ * take the subdivision route instead (ssi/spline.h, spline_*.c; primer 7): sub-patch pairs are
+ * split until a direction e with e . (n_P x n_Q) > 0 is proved over both normal cones, and
+ * the single branch such a pair holds (if any) is fixed by certified boundary/surface roots and
+ * marched in the height e . X. Sub-pairs left at the floor (tangency, near-tangency, singular
+ * points, surfaces closer than round-off without meeting) are listed in r->failed with their
+ * parameter boxes; the certified branches of the same patch pair are still output. Only
+ * polynomial (non-rational) patches take this route; rational ones stay unsupported.
+ *
  * What is not done: trimming loops of faces (curves are clipped to the faces' parameter boxes),
  * analytic/analytic pairs, surfaces of revolution and extrusion. */
 #ifndef CB_SSI_SSI_H
@@ -67,6 +76,11 @@ typedef struct {
                              stage; default 12, the bidegree a torus gives with a bicubic
                              patch. Raise it as the topology stage scales. */
     cb_ctopo_opts topo;   /* passed to cb_ctopo_compute; defaults of cb_ctopo_opts_default */
+    int spline_max_depth; /* subdivision route: sub-patches are not split below parameter
+                             width 2^-spline_max_depth of their Bezier patch; default 20 */
+    slong spline_max_subpairs; /* subdivision route: sub-patch pairs examined per Bezier
+                                  patch pair before the rest is reported uncertified;
+                                  default 20000 */
 } cb_ssi_opts;
 
 void cb_ssi_opts_default(cb_ssi_opts *o);
@@ -104,6 +118,8 @@ typedef struct {
     int patch_a, patch_b;
     cb_status status;
     char msg[200];
+    int has_box;            /* box_a, box_b are set: the uncertified region of the pair */
+    double box_a[4], box_b[4]; /* {u0, u1, v0, v1} in the surfaces' parameters */
 } cb_ssi_failure;
 
 typedef struct {
@@ -120,6 +136,9 @@ typedef struct {
     slong pairs_culled;     /* separated oriented boxes (section 4.1) */
     slong pairs_empty;      /* phi proved sign-definite by its Bernstein coefficients */
     slong pairs_certified;  /* topology computed (includes pairs_empty) */
+    slong pairs_subdivided; /* patch pairs taken by the subdivision route (a subset of
+                               pairs_total; certified ones are counted in pairs_certified) */
+    slong subpairs;         /* sub-patch pairs the subdivision route examined */
     double tol;             /* tolerance used */
     double max_dist_a, max_dist_b; /* largest distance of an output point to A and to B */
     double time_topo, time_trace;  /* seconds summed over patch pairs (all threads) */
@@ -146,7 +165,8 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
  * parameter box of their edges (sampled and inverted); the curves are not clipped to trimming
  * loops. Face pairs that cannot be intersected (analytic/analytic, revolution, extrusion) are
  * listed in r->failed with patch indices -1. With opts->tol <= 0 the tolerance is 1e-6 times
- * the diagonal of the box of both bodies. */
+ * the diagonal of the box of both bodies. Face pairs run in parallel on opts->threads (each
+ * serial inside) and are combined in face-pair order. */
 cb_status cb_ssi_bodies(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_body *b,
                         const cb_ssi_opts *opts, cb_error *err);
 

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "brep/bbox.h"
+#include "brep/parallel.h"
 #include "ssi/ssi.h"
 
 /* Samples per edge used to bound an analytic face's parameters. */
@@ -87,6 +88,72 @@ static int face_box(cb_aabb *box, const cb_ssi_surface *S)
     return ok;
 }
 
+typedef struct {
+    int i, j, run; /* run: intersect the faces; else msg is the failure to record */
+    char msg[160];
+    cb_ssi_result_t r;
+    cb_status st;
+    cb_error err;
+} fpair;
+
+typedef struct {
+    fpair *f;
+    const cb_ssi_surface *sa, *sb;
+    cb_ssi_opts o;
+} fctx;
+
+static void fbody(void *vctx, size_t begin, size_t end)
+{
+    fctx *c = vctx;
+    for (size_t k = begin; k < end; k++) {
+        fpair *F = c->f + k;
+        if (!F->run)
+            continue;
+        cb_error_clear(&F->err);
+        F->st = cb_ssi_surfaces(F->r, c->sa + F->i, c->sb + F->j, F->i, F->j, &c->o, &F->err);
+    }
+}
+
+/* Appends the content of s to r (s keeps nothing that r owns). */
+static void result_move(cb_ssi_result_t r, cb_ssi_result_t s)
+{
+    if (s->n_curves) {
+        if (r->n_curves + s->n_curves > r->alloc_curves) {
+            r->alloc_curves = FLINT_MAX(2 * r->alloc_curves, r->n_curves + s->n_curves);
+            r->curve = realloc(r->curve, (size_t)r->alloc_curves * sizeof(*r->curve));
+        }
+        memcpy(r->curve + r->n_curves, s->curve, (size_t)s->n_curves * sizeof(*s->curve));
+        r->n_curves += s->n_curves;
+        s->n_curves = 0;
+    }
+    if (s->n_points) {
+        if (r->n_points + s->n_points > r->alloc_points) {
+            r->alloc_points = FLINT_MAX(2 * r->alloc_points, r->n_points + s->n_points);
+            r->point = realloc(r->point, (size_t)r->alloc_points * sizeof(*r->point));
+        }
+        memcpy(r->point + r->n_points, s->point, (size_t)s->n_points * sizeof(*s->point));
+        r->n_points += s->n_points;
+    }
+    for (slong k = 0; k < s->n_failed; k++) {
+        const cb_ssi_failure *f = s->failed + k;
+        _cb_ssi_add_failure(r, f->face_a, f->face_b, f->patch_a, f->patch_b, f->status, f->msg);
+        cb_ssi_failure *g = r->failed + r->n_failed - 1;
+        g->has_box = f->has_box;
+        memcpy(g->box_a, f->box_a, sizeof g->box_a);
+        memcpy(g->box_b, f->box_b, sizeof g->box_b);
+    }
+    r->pairs_total += s->pairs_total;
+    r->pairs_culled += s->pairs_culled;
+    r->pairs_empty += s->pairs_empty;
+    r->pairs_certified += s->pairs_certified;
+    r->pairs_subdivided += s->pairs_subdivided;
+    r->subpairs += s->subpairs;
+    r->max_dist_a = fmax(r->max_dist_a, s->max_dist_a);
+    r->max_dist_b = fmax(r->max_dist_b, s->max_dist_b);
+    r->time_topo += s->time_topo;
+    r->time_trace += s->time_trace;
+}
+
 cb_status cb_ssi_bodies(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_body *b,
                         const cb_ssi_opts *opts, cb_error *err)
 {
@@ -114,31 +181,59 @@ cb_status cb_ssi_bodies(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_
         oka[i] = face_surface(sa + i, a, i) && face_box(xa + i, sa + i);
     for (int j = 0; j < b->n_faces; j++)
         okb[j] = face_surface(sb + j, b, j) && face_box(xb + j, sb + j);
-    cb_status st = CB_OK;
-    for (int i = 0; i < a->n_faces && st == CB_OK; i++)
-        for (int j = 0; j < b->n_faces && st == CB_OK; j++) {
-            char msg[160];
-            if (!oka[i] || !okb[j]) {
+    /* Face pairs in order: a failure record, or a pair to intersect. */
+    slong nf = 0, af = 64;
+    fpair *fp = malloc((size_t)af * sizeof(fpair));
+    for (int i = 0; i < a->n_faces; i++)
+        for (int j = 0; j < b->n_faces; j++) {
+            int bad = !oka[i] || !okb[j];
+            if (!bad && !cb_aabb_overlap(xa + i, xb + j, o.tol))
+                continue;
+            if (nf == af) {
+                af *= 2;
+                fp = realloc(fp, (size_t)af * sizeof(fpair));
+            }
+            fpair *F = fp + nf++;
+            F->i = i;
+            F->j = j;
+            F->run = 0;
+            F->st = CB_OK;
+            cb_ssi_result_init(F->r);
+            if (bad) {
                 const cb_topo_surface *s = !oka[i] ? a->surfaces + a->faces[i].surface
                                                    : b->surfaces + b->faces[j].surface;
-                snprintf(msg, sizeof msg, "face of a %s surface is not handled",
+                snprintf(F->msg, sizeof F->msg, "face of a %s surface is not handled",
                          cb_topo_surface_type_name(s));
-                _cb_ssi_add_failure(r, i, j, -1, -1, CB_ERR_UNSUPPORTED, msg);
-                continue;
-            }
-            if (!cb_aabb_overlap(xa + i, xb + j, o.tol))
-                continue;
-            if (sa[i].kind == CB_SSI_ANALYTIC && sb[j].kind == CB_SSI_ANALYTIC) {
-                snprintf(msg, sizeof msg, "analytic/analytic pair (%s, %s) is not handled",
+            } else if (sa[i].kind == CB_SSI_ANALYTIC && sb[j].kind == CB_SSI_ANALYTIC) {
+                snprintf(F->msg, sizeof F->msg, "analytic/analytic pair (%s, %s) is not handled",
                          cb_analytic_kind_name(sa[i].analytic.kind),
                          cb_analytic_kind_name(sb[j].analytic.kind));
-                _cb_ssi_add_failure(r, i, j, -1, -1, CB_ERR_UNSUPPORTED, msg);
-                continue;
+            } else {
+                F->run = 1;
             }
-            st = cb_ssi_surfaces(r, sa + i, sb + j, i, j, &o, err);
-            if (st != CB_OK)
-                cb_error_prefix(err, "faces %d, %d: ", i, j);
         }
+    /* Face pairs run in parallel (each serial inside) and are combined in pair order, so the
+     * result does not depend on the number of threads. */
+    fctx fc = {fp, sa, sb, o};
+    fc.o.threads = 1;
+    cb_status st = cb_parallel_for((size_t)nf, 1, o.threads, fbody, &fc);
+    if (st != CB_OK)
+        cb_error_set(err, st, "ssi: parallel face pairs failed");
+    for (slong k = 0; k < nf; k++) {
+        fpair *F = fp + k;
+        if (st == CB_OK && !F->run)
+            _cb_ssi_add_failure(r, F->i, F->j, -1, -1, CB_ERR_UNSUPPORTED, F->msg);
+        if (st == CB_OK && F->run && F->st != CB_OK) {
+            st = F->st;
+            if (err)
+                *err = F->err;
+            cb_error_prefix(err, "faces %d, %d: ", F->i, F->j);
+        }
+        if (st == CB_OK && F->run)
+            result_move(r, F->r);
+        cb_ssi_result_clear(F->r);
+    }
+    free(fp);
     r->tol = o.tol;
     free(sa);
     free(sb);

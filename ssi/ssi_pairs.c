@@ -9,6 +9,7 @@
 #include "brep/bbox.h"
 #include "brep/parallel.h"
 #include "ssi/implicit.h"
+#include "ssi/spline.h"
 #include "ssi/ssi.h"
 
 void cb_ssi_surface_set_analytic(cb_ssi_surface *S, const cb_analytic_surface *a,
@@ -34,6 +35,8 @@ void cb_ssi_opts_default(cb_ssi_opts *o)
     o->threads = 0;
     o->max_phi_degree = 12;
     cb_ctopo_opts_default(&o->topo);
+    o->spline_max_depth = 20;
+    o->spline_max_subpairs = 20000;
 }
 
 static double now_s(void)
@@ -156,6 +159,8 @@ typedef struct {
     cb_status st;
     char msg[200];
     int empty;
+    int spline; /* subdivision route; pieces already in the surfaces' domains */
+    _cb_ssi_spline_stats sst;
     _cb_ssi_piece_set pieces;
     double t_topo, t_trace;
 } pair_job;
@@ -166,9 +171,48 @@ typedef struct {
     const cb_implicit_struct *F_an; /* analytic P */
     const cb_ssi_surface *Ps;
     cb_dixon_patch_struct *Q;
+    const cb_nurbs_surface_struct *ppat, *qpat; /* Bezier patches (ppat NULL: analytic P) */
     const cb_ssi_opts *opts;
     double tol, chord, max_seg;
 } pair_ctx;
+
+/* The subdivision route for one polynomial patch pair (ssi/spline.h). */
+static void spline_run(pair_job *J, const pair_ctx *c)
+{
+    double t0 = now_s();
+    cb_error err;
+    cb_error_clear(&err);
+    _cb_ssi_bez P, Q;
+    J->st = _cb_ssi_bez_set(&P, c->ppat + J->ip, &err);
+    if (J->st == CB_OK) {
+        J->st = _cb_ssi_bez_set(&Q, c->qpat + J->iq, &err);
+        if (J->st != CB_OK)
+            _cb_ssi_bez_clear(&P);
+    }
+    if (J->st != CB_OK) {
+        snprintf(J->msg, sizeof J->msg, "%.190s", err.msg);
+        return;
+    }
+    _cb_ssi_spline_opts so = {c->opts->spline_max_depth, c->opts->spline_max_subpairs, c->tol,
+                              c->chord, c->max_seg};
+    _cb_ssi_spline_pair(&J->pieces, &J->sst, &P, &Q, &so);
+    const _cb_ssi_spline_stats *s = &J->sst;
+    if (s->uncertified > 0) {
+        J->st = s->march_failed ? CB_ERR_NUMERIC : CB_ERR_UNSUPPORTED;
+        snprintf(J->msg, sizeof J->msg,
+                 "subdivision: %ld of %ld sub-patch pairs not certified (no direction %d, "
+                 "ambiguous boundary roots %d, several branches %d, marching failed %d, "
+                 "over budget %ld)",
+                 s->uncertified, s->subpairs, s->no_direction, s->ambiguous_roots,
+                 s->many_branches, s->march_failed,
+                 s->uncertified - s->no_direction - s->ambiguous_roots - s->many_branches -
+                     s->march_failed);
+    }
+    J->empty = s->branches == 0 && s->uncertified == 0;
+    J->t_topo = now_s() - t0;
+    _cb_ssi_bez_clear(&P);
+    _cb_ssi_bez_clear(&Q);
+}
 
 static void pair_run(pair_job *J, const pair_ctx *c)
 {
@@ -281,7 +325,9 @@ static void pair_body(void *vctx, size_t begin, size_t end)
 {
     pair_ctx *c = vctx;
     for (size_t k = begin; k < end; k++)
-        if (c->job[k].st == CB_OK)
+        if (c->job[k].spline)
+            spline_run(c->job + k, c);
+        else if (c->job[k].st == CB_OK)
             pair_run(c->job + k, c);
 }
 
@@ -314,6 +360,15 @@ static void to_domains(_cb_ssi_piece_set *ps, const cb_dixon_patch_struct *Pp,
         }
 }
 
+/* A box in a Bezier patch's local [0,1]^2 mapped to the patch's domain. */
+static void box_to_domain(double out[4], const double loc[4], const cb_nurbs_surface_struct *pat)
+{
+    double d[4];
+    cb_nurbs_surface_domain(pat, d);
+    for (int k = 0; k < 4; k++)
+        out[k] = d[k & 2] + loc[k] * (d[(k & 2) + 1] - d[k & 2]);
+}
+
 void _cb_ssi_add_failure(cb_ssi_result_t r, int fa, int fb, int pa, int pb, cb_status st,
                         const char *msg)
 {
@@ -328,6 +383,9 @@ void _cb_ssi_add_failure(cb_ssi_result_t r, int fa, int fb, int pa, int pb, cb_s
     f->patch_b = pb;
     f->status = st;
     snprintf(f->msg, sizeof f->msg, "%s", msg);
+    f->has_box = 0;
+    memset(f->box_a, 0, sizeof f->box_a);
+    memset(f->box_b, 0, sizeof f->box_b);
     if (r->status == CB_OK)
         r->status = st;
 }
@@ -388,16 +446,21 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
 
     /* Boxes and the model size. */
     cb_aabb box = {{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
+    /* Oriented boxes are made only for patches whose axis-aligned box meets one of the other
+     * side (their fit dominates the cost of a face pair that is mostly culled). */
     cb_obb *qobb = malloc((size_t)nq * sizeof(cb_obb));
     cb_obb *pobb = malloc((size_t)np * sizeof(cb_obb));
+    cb_aabb *qbox = malloc((size_t)nq * sizeof(cb_aabb));
+    cb_aabb *pbox = malloc((size_t)np * sizeof(cb_aabb));
+    char *qhave = calloc((size_t)nq, 1), *phave = calloc((size_t)np, 1);
     int p_bounded = 1;
     for (int j = 0; j < nq; j++) {
-        cb_nurbs_surface_obb(qobb + j, qpat + j);
+        cb_nurbs_surface_aabb(qbox + j, qpat + j);
         aabb_add_net(&box, qpat + j);
     }
     if (ppat) {
         for (int i = 0; i < np; i++) {
-            cb_nurbs_surface_obb(pobb + i, ppat + i);
+            cb_nurbs_surface_aabb(pbox + i, ppat + i);
             aabb_add_net(&box, ppat + i);
         }
     } else {
@@ -406,6 +469,8 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
         p_bounded = analytic_net(net, &Ps->analytic, Ps->range);
         if (p_bounded) {
             cb_nurbs_surface_obb(pobb, net);
+            cb_nurbs_surface_aabb(pbox, net);
+            phave[0] = 1;
             aabb_add_net(&box, net);
         }
         cb_nurbs_surface_clear(net);
@@ -423,6 +488,18 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
     for (int i = 0; i < np; i++)
         for (int j = 0; j < nq; j++) {
             r->pairs_total++;
+            if (p_bounded && !cb_aabb_overlap(pbox + i, qbox + j, tol)) {
+                r->pairs_culled++;
+                continue;
+            }
+            if (p_bounded && !phave[i]) {
+                cb_nurbs_surface_obb(pobb + i, ppat + i);
+                phave[i] = 1;
+            }
+            if (p_bounded && !qhave[j]) {
+                cb_nurbs_surface_obb(qobb + j, qpat + j);
+                qhave[j] = 1;
+            }
             if (p_bounded && cb_obb_separated(pobb + i, qobb + j, tol)) {
                 r->pairs_culled++;
                 continue;
@@ -436,7 +513,10 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                                   ? 1
                                   : (Ps->analytic.kind == CB_ANALYTIC_TORUS ? 4 : 2));
             slong dq = FLINT_MAX(qpat[j].deg_u, qpat[j].deg_v);
-            if (N * dq > opts->max_phi_degree) {
+            if (N * dq > opts->max_phi_degree && ppat) {
+                job[nj].spline = 1;
+                r->pairs_subdivided++;
+            } else if (N * dq > opts->max_phi_degree) {
                 job[nj].st = CB_ERR_UNSUPPORTED;
                 snprintf(job[nj].msg, sizeof job[nj].msg,
                          "phi would have degree up to %ld, above the topology stage's limit %ld",
@@ -447,6 +527,10 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
         }
     free(qobb);
     free(pobb);
+    free(qbox);
+    free(pbox);
+    free(qhave);
+    free(phave);
 
     p_side *P = NULL;
     cb_implicit_t F_an;
@@ -464,7 +548,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
             cb_implicit_init(P[i].F);
         }
         for (slong k = 0; k < nj; k++)
-            if (job[k].st == CB_OK)
+            if (job[k].st == CB_OK && !job[k].spline)
                 P[job[k].ip].needed = 1;
         p_ctx pc = {P, ppat};
         st = cb_parallel_for((size_t)np, 1, opts->threads, p_body, &pc);
@@ -474,7 +558,8 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
         st = cb_implicit_from_analytic(F_an, &Ps->analytic, err);
     }
     if (st == CB_OK) {
-        pair_ctx pc = {job, P, ppat ? NULL : F_an, Ps, Q, opts, tol, chord, 0.05 * size};
+        pair_ctx pc = {job, P, ppat ? NULL : F_an, Ps, Q, ppat, qpat, opts, tol, chord,
+                       0.05 * size};
         st = cb_parallel_for((size_t)nj, 1, opts->threads, pair_body, &pc);
         if (st != CB_OK)
             cb_error_set(err, st, "ssi: parallel patch pairs failed");
@@ -485,6 +570,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
             pair_job *J = job + k;
             r->time_topo += J->t_topo;
             r->time_trace += J->t_trace;
+            r->subpairs += J->sst.subpairs;
             if (J->st != CB_OK) {
                 int pa = ppat ? J->ip : -1, pb = J->iq;
                 if (swapped) {
@@ -493,15 +579,32 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                     pb = t;
                 }
                 _cb_ssi_add_failure(r, fa, fb, pa, pb, J->st, J->msg);
+                if (J->spline && J->sst.uncertified > 0) {
+                    cb_ssi_failure *f = r->failed + r->n_failed - 1;
+                    double bp[4], bq[4];
+                    box_to_domain(bp, J->sst.box_p, ppat + J->ip);
+                    box_to_domain(bq, J->sst.box_q, qpat + J->iq);
+                    f->has_box = 1;
+                    memcpy(swapped ? f->box_b : f->box_a, bp, sizeof bp);
+                    memcpy(swapped ? f->box_a : f->box_b, bq, sizeof bq);
+                }
             } else {
                 r->pairs_certified++;
                 r->pairs_empty += J->empty;
             }
-            to_domains(&J->pieces, P ? P[J->ip].dp : NULL, Ps, Q + J->iq);
+            if (!J->spline)
+                to_domains(&J->pieces, P ? P[J->ip].dp : NULL, Ps, Q + J->iq);
             sets[k] = J->pieces;
         }
         slong c0 = r->n_curves, q0 = r->n_points;
-        _cb_ssi_stitch(r, sets, nj, swapped, fa, fb, 10 * tol, chord);
+        /* Pieces of the subdivision route meet at boundary roots solved from the same
+         * equations (they agree to round-off), so they are joined at tol: 10 tol, needed for
+         * the algebraic route's refined ends, would swallow a piece shorter than that at a
+         * patch side and leave the curve ending up to 10 tol short of the face boundary. */
+        int all_spline = 1;
+        for (slong k = 0; k < nj; k++)
+            all_spline &= job[k].spline;
+        _cb_ssi_stitch(r, sets, nj, swapped, fa, fb, (all_spline ? 1 : 10) * tol, chord);
         free(sets);
         for (slong c = c0; c < r->n_curves; c++)
             for (slong i = 0; i < r->curve[c].n; i++)

@@ -1,0 +1,173 @@
+/* spline.h — the subdivision route for polynomial B-spline/B-spline patch pairs (primer 7;
+ * Sederberg and Meyers 1988). Internal to ssi/: the driver (ssi_pairs.c) calls
+ * _cb_ssi_spline_pair for Bezier patch pairs whose phi would be of too high a degree for the
+ * algebraic route. Not a public API.
+ *
+ * Certification. A pair of sub-patches is certified when
+ *   (a) a direction e is proved to satisfy e . (n_P x n_Q) > 0 for every normal n_P of the
+ *       P sub-patch and n_Q of the Q sub-patch: the normals S_u x S_v of a polynomial patch are
+ *       convex combinations of the Bernstein coefficients of S_u x S_v, so it suffices that
+ *       e . (A_i x B_k) > 0 for every pair of coefficients, each decided by an error bound
+ *       that excludes zero (coefficients enclosed in interval arithmetic with outward
+ *       rounding, de Casteljau subdivision included). Then no two normals are parallel, the
+ *       height e . X grows strictly along every intersection branch, no branch closes, and
+ *       each branch runs from an entry point to an exit point on the boxes' boundaries;
+ *   (b) every intersection of the 4 boundary curves of each sub-patch with the other
+ *       sub-patch is found: boxes of (edge parameter, other patch parameters) are excluded by
+ *       interval enclosures (natural and mean value form) or hold one simple root proved by
+ *       the Krawczyk operator (interval Jacobian, outward rounding); a root whose enclosure
+ *       touches the side of its box (a curve through a corner), or two enclosures that
+ *       cannot be told apart, make the pair ambiguous;
+ *   (c) there are exactly two boundary points (each branch has two ends on the boundary and
+ *       no branch closes, so exactly one branch joins them), or none (no intersection). As a
+ *       consistency check one must be an entry and one an exit: the sign of the tangent's
+ *       parameter velocity across the side (non-zero at a simple root; read in floating
+ *       point, |normalised velocity| > 1e-9 required), and the exit must be higher in e . X.
+ * Pairs failing (a)-(c) are split (the larger sub-patch, at parameter midpoints, which keeps
+ * boxes dyadic) down to a floor; what remains at the floor, or beyond the work budget, is
+ * reported uncertified with its parameter boxes. A certified branch is marched in heights
+ * h = e . X from entry to exit: at each height the branch is the only point of P = Q in the
+ * boxes, so a converged Newton point inside the boxes (1e-12 parameter slack) is on it: no
+ * branch jumping. The chord criterion is checked at each chord's midpoint (not a bound).
+ *
+ * Outside the proof: the Bezier patches themselves are the floating-point result of knot
+ * insertion (as for the algebraic route), and the polyline between marched points.
+ *
+ * Only polynomial (non-rational) patches are handled: the normal-cone bound above needs
+ * polynomial derivatives. */
+#ifndef CB_SSI_SPLINE_H
+#define CB_SSI_SPLINE_H
+
+#include <math.h>
+
+#include "brep/nurbs.h"
+#include "brep/status.h"
+#include "ssi/ssi.h"
+
+/* ---------------------------------------------------------------- intervals ---------------- */
+
+/* A closed interval [lo, hi]; operations round outward (one ulp each way), so the exact
+ * result of the operation on any members lies inside. */
+typedef struct {
+    double lo, hi;
+} _cb_iv;
+
+/* Outward rounding of a result rounded to nearest: its error is at most |x| 2^-53 or half the
+ * smallest subnormal, so these bounds are never tighter than nextafter's. */
+static inline double _cb_iv_dn(double x)
+{
+    return x - (fabs(x) * 0x1p-52 + 0x1p-1074);
+}
+
+static inline double _cb_iv_up(double x)
+{
+    return x + (fabs(x) * 0x1p-52 + 0x1p-1074);
+}
+
+static inline _cb_iv _cb_iv_pt(double x)
+{
+    _cb_iv r = {x, x};
+    return r;
+}
+
+static inline _cb_iv _cb_iv_add(_cb_iv a, _cb_iv b)
+{
+    _cb_iv r = {_cb_iv_dn(a.lo + b.lo), _cb_iv_up(a.hi + b.hi)};
+    return r;
+}
+
+static inline _cb_iv _cb_iv_sub(_cb_iv a, _cb_iv b)
+{
+    _cb_iv r = {_cb_iv_dn(a.lo - b.hi), _cb_iv_up(a.hi - b.lo)};
+    return r;
+}
+
+static inline _cb_iv _cb_iv_mul(_cb_iv a, _cb_iv b)
+{
+    double p0 = a.lo * b.lo, p1 = a.lo * b.hi, p2 = a.hi * b.lo, p3 = a.hi * b.hi;
+    double lo = p0 < p1 ? p0 : p1, hi = p0 < p1 ? p1 : p0;
+    lo = p2 < lo ? p2 : lo;
+    hi = p2 > hi ? p2 : hi;
+    lo = p3 < lo ? p3 : lo;
+    hi = p3 > hi ? p3 : hi;
+    _cb_iv r = {_cb_iv_dn(lo), _cb_iv_up(hi)};
+    return r;
+}
+
+/* ---------------------------------------------------------------- polynomial patches ------- */
+
+/* A polynomial Bezier patch in its local parameters [0,1]^2: control points exact doubles,
+ * pts[3 (i (n + 1) + j) + k], u outer; dom = the caller's parameter box it maps to. */
+typedef struct {
+    int m, n;
+    double *pts;
+    double dom[4];
+} _cb_ssi_bez;
+
+/* From one Bezier patch of cb_nurbs_surface_extract_bezier. CB_ERR_UNSUPPORTED for a
+ * rational patch (weights not all equal), CB_ERR_NOMEM. */
+cb_status _cb_ssi_bez_set(_cb_ssi_bez *b, const cb_nurbs_surface_struct *s, cb_error *err);
+void _cb_ssi_bez_clear(_cb_ssi_bez *b);
+
+/* Point and first partials at (u, v) (floating point de Casteljau). */
+void _cb_ssi_bez_eval(double X[3], double Xu[3], double Xv[3], const _cb_ssi_bez *b, double u,
+                      double v);
+
+/* Enclosures of the point and first partials over the parameter box u x v (interval de
+ * Casteljau, outward rounding). */
+void _cb_ssi_bez_eval_iv(_cb_iv X[3], _cb_iv Xu[3], _cb_iv Xv[3], const _cb_ssi_bez *b, _cb_iv u,
+                         _cb_iv v);
+
+/* Splits the Bezier curve with d + 1 enclosed three-vector control points c[k stride] at its
+ * parameter 1/2 into lo and hi (same layout): enclosures of the halves' control points. */
+void _cb_ssi_split_iv(_cb_iv *lo, _cb_iv *hi, const _cb_iv *c, int d, int stride);
+
+/* ---------------------------------------------------------------- edge/surface roots ------- */
+
+/* A certified simple root of C(w) = S(a, b): y = (w, a, b) refined by Newton, k its Krawczyk
+ * enclosure. */
+typedef struct {
+    double y[3];
+    _cb_iv k[3];
+} _cb_ssi_edge_root;
+
+/* All roots of E(w) = S(a, b) with w in [w0, w1] and (a, b) in box = {a0, a1, b0, b1}, where
+ * E is the iso-curve of patch C at parameter dir (0: u) fixed to c, w running over the other
+ * parameter. cnet (C's degree along w plus 1 points) and snet (S's net, u outer) enclose the
+ * control points of E over [w0, w1] and of S over box; they give the exclusion tests (convex
+ * hulls compared along a few axes), subdivided with the boxes. Appends to roots (capacity
+ * cap, count *n). Returns 1 when every root was found and certified simple and strictly
+ * inside the domain, 0 when ambiguous (a root on or near the domain's boundary, a multiple or
+ * near-multiple root, more than cap roots, or more than budget boxes). */
+int _cb_ssi_edge_roots(_cb_ssi_edge_root *roots, int cap, int *n, const _cb_ssi_bez *C, int dir,
+                       double c, double w0, double w1, const _cb_iv *cnet, const _cb_ssi_bez *S,
+                       const double box[4], const _cb_iv *snet, int budget);
+
+/* ---------------------------------------------------------------- patch pairs -------------- */
+
+typedef struct {
+    int max_depth;     /* floor: sub-patches are not split below width 2^-max_depth */
+    long max_subpairs; /* work budget per patch pair */
+    double tol, chord, max_seg;
+} _cb_ssi_spline_opts;
+
+typedef struct {
+    long subpairs;             /* sub-patch pairs examined */
+    long certified;            /* of them certified (with or without a branch) */
+    long branches;             /* branches marched */
+    long uncertified;          /* sub-patch pairs left at the floor or over the budget */
+    double box_p[4], box_q[4]; /* union of their parameter boxes, local [0,1]^2 of P and Q */
+    int ambiguous_roots;       /* uncertified ones whose boundary roots were ambiguous */
+    int no_direction;          /* uncertified ones without a proved direction e */
+    int many_branches;         /* uncertified ones with more than one branch */
+    int march_failed;          /* branches whose marching did not converge (reported uncertified) */
+} _cb_ssi_spline_stats;
+
+/* The intersection of the polynomial Bezier patches P and Q (certified as above): one piece
+ * per certified branch appended to out, points refined onto both patches (|P - Q| <= tol /
+ * 100), uv / st in the patches' domains (P->dom, Q->dom), chords within chord and max_seg.
+ * Deterministic (serial inside). */
+void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *stats, const _cb_ssi_bez *P,
+                         const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o);
+
+#endif

@@ -1,0 +1,522 @@
+/* spline_iv.c — interval arithmetic, polynomial Bezier patches and certified roots of a
+ * patch's iso-curve against another patch (see ssi/spline.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ssi/spline.h"
+
+static int iv_has0(_cb_iv a)
+{
+    return a.lo <= 0 && a.hi >= 0;
+}
+
+static double iv_mid(_cb_iv a)
+{
+    return 0.5 * a.lo + 0.5 * a.hi;
+}
+
+static double iv_w(_cb_iv a)
+{
+    return a.hi - a.lo;
+}
+
+/* ---------------------------------------------------------------- patches ------------------ */
+
+cb_status _cb_ssi_bez_set(_cb_ssi_bez *b, const cb_nurbs_surface_struct *s, cb_error *err)
+{
+    memset(b, 0, sizeof(*b));
+    if (s->n_u != s->deg_u + 1 || s->n_v != s->deg_v + 1 || s->deg_u < 1 || s->deg_v < 1)
+        return cb_error_set(err, CB_ERR_INVALID,
+                            "ssi: not a single Bezier patch of degree >= 1 (%d x %d points, "
+                            "degree %d, %d)",
+                            s->n_u, s->n_v, s->deg_u, s->deg_v);
+    double w0 = s->cw[3];
+    for (int k = 0; k < s->n_u * s->n_v; k++)
+        if (s->cw[4 * k + 3] != w0)
+            return cb_error_set(err, CB_ERR_UNSUPPORTED,
+                                "ssi: rational patch (weight %g at control point %d, %g at 0) "
+                                "is not handled by the subdivision route",
+                                s->cw[4 * k + 3], k, w0);
+    b->m = s->deg_u;
+    b->n = s->deg_v;
+    b->pts = malloc((size_t)(3 * s->n_u * s->n_v) * sizeof(double));
+    if (!b->pts)
+        return cb_error_set(err, CB_ERR_NOMEM, "ssi: no memory for a Bezier patch");
+    for (int k = 0; k < s->n_u * s->n_v; k++)
+        for (int q = 0; q < 3; q++)
+            b->pts[3 * k + q] = s->cw[4 * k + q] / w0;
+    cb_nurbs_surface_domain(s, b->dom);
+    return CB_OK;
+}
+
+void _cb_ssi_bez_clear(_cb_ssi_bez *b)
+{
+    free(b->pts);
+    memset(b, 0, sizeof(*b));
+}
+
+/* de Casteljau on d + 1 three-vectors c (destroyed): value at t and derivative. */
+static void dc(double val[3], double der[3], double *c, int d, double t)
+{
+    for (int r = 1; r < d; r++)
+        for (int i = 0; i + r <= d; i++)
+            for (int q = 0; q < 3; q++)
+                c[3 * i + q] += t * (c[3 * i + 3 + q] - c[3 * i + q]);
+    for (int q = 0; q < 3; q++) {
+        double diff = c[3 + q] - c[q];
+        val[q] = c[q] + t * diff;
+        if (der)
+            der[q] = d * diff;
+    }
+}
+
+void _cb_ssi_bez_eval(double X[3], double Xu[3], double Xv[3], const _cb_ssi_bez *b, double u,
+                      double v)
+{
+    double row[3 * (CB_MAX_DEGREE + 1)], cu[3 * (CB_MAX_DEGREE + 1)], cv[3 * (CB_MAX_DEGREE + 1)];
+    for (int i = 0; i <= b->m; i++) {
+        memcpy(row, b->pts + 3 * i * (b->n + 1), 3 * (size_t)(b->n + 1) * sizeof(double));
+        dc(cu + 3 * i, cv + 3 * i, row, b->n, v);
+    }
+    dc(X, Xu, cu, b->m, u);
+    double dummy[3];
+    dc(Xv, dummy, cv, b->m, u);
+}
+
+static void dc_iv(_cb_iv val[3], _cb_iv der[3], _cb_iv *c, int d, _cb_iv t)
+{
+    for (int r = 1; r < d; r++)
+        for (int i = 0; i + r <= d; i++)
+            for (int q = 0; q < 3; q++)
+                c[3 * i + q] = _cb_iv_add(
+                    c[3 * i + q], _cb_iv_mul(t, _cb_iv_sub(c[3 * i + 3 + q], c[3 * i + q])));
+    for (int q = 0; q < 3; q++) {
+        _cb_iv diff = _cb_iv_sub(c[3 + q], c[q]);
+        val[q] = _cb_iv_add(c[q], _cb_iv_mul(t, diff));
+        if (der)
+            der[q] = _cb_iv_mul(_cb_iv_pt((double)d), diff);
+    }
+}
+
+void _cb_ssi_bez_eval_iv(_cb_iv X[3], _cb_iv Xu[3], _cb_iv Xv[3], const _cb_ssi_bez *b, _cb_iv u,
+                         _cb_iv v)
+{
+    _cb_iv row[3 * (CB_MAX_DEGREE + 1)], cu[3 * (CB_MAX_DEGREE + 1)], cv[3 * (CB_MAX_DEGREE + 1)];
+    for (int i = 0; i <= b->m; i++) {
+        for (int k = 0; k < 3 * (b->n + 1); k++)
+            row[k] = _cb_iv_pt(b->pts[3 * i * (b->n + 1) + k]);
+        dc_iv(cu + 3 * i, cv + 3 * i, row, b->n, v);
+    }
+    dc_iv(X, Xu, cu, b->m, u);
+    dc_iv(Xv, NULL, cv, b->m, u);
+}
+
+void _cb_ssi_split_iv(_cb_iv *lo, _cb_iv *hi, const _cb_iv *c, int d, int stride)
+{
+    _cb_iv w[3 * (CB_MAX_DEGREE + 1)];
+    const _cb_iv half = {0.5, 0.5};
+    for (int k = 0; k <= d; k++)
+        memcpy(w + 3 * k, c + (size_t)k * stride, 3 * sizeof(_cb_iv));
+    for (int r = 0; r <= d; r++) {
+        memcpy(lo + (size_t)r * stride, w, 3 * sizeof(_cb_iv));
+        memcpy(hi + (size_t)(d - r) * stride, w + 3 * (d - r), 3 * sizeof(_cb_iv));
+        for (int k = 0; k + r < d; k++)
+            for (int q = 0; q < 3; q++)
+                w[3 * k + q] = _cb_iv_mul(half, _cb_iv_add(w[3 * k + q], w[3 * k + 3 + q]));
+    }
+}
+
+/* ---------------------------------------------------------------- edge/surface roots ------- */
+
+typedef struct {
+    const _cb_ssi_bez *C, *S;
+    int dir;
+    double c;
+} edge_sys;
+
+/* F = E(w) - S(a, b) and its Jacobian [E_w, -S_a, -S_b] over the box y. */
+static void sys_iv(_cb_iv F[3], _cb_iv J[3][3], const edge_sys *e, const _cb_iv y[3])
+{
+    _cb_iv E[3], Eu[3], Ev[3], S[3], Sa[3], Sb[3];
+    if (e->dir == 0)
+        _cb_ssi_bez_eval_iv(E, Eu, Ev, e->C, _cb_iv_pt(e->c), y[0]);
+    else
+        _cb_ssi_bez_eval_iv(E, Eu, Ev, e->C, y[0], _cb_iv_pt(e->c));
+    _cb_ssi_bez_eval_iv(S, Sa, Sb, e->S, y[1], y[2]);
+    for (int q = 0; q < 3; q++) {
+        F[q] = _cb_iv_sub(E[q], S[q]);
+        if (J) {
+            J[q][0] = e->dir == 0 ? Ev[q] : Eu[q];
+            J[q][1] = _cb_iv_sub(_cb_iv_pt(0), Sa[q]);
+            J[q][2] = _cb_iv_sub(_cb_iv_pt(0), Sb[q]);
+        }
+    }
+}
+
+static void sys_pt(double F[3], double J[3][3], const edge_sys *e, const double y[3])
+{
+    double E[3], Eu[3], Ev[3], S[3], Sa[3], Sb[3];
+    if (e->dir == 0)
+        _cb_ssi_bez_eval(E, Eu, Ev, e->C, e->c, y[0]);
+    else
+        _cb_ssi_bez_eval(E, Eu, Ev, e->C, y[0], e->c);
+    _cb_ssi_bez_eval(S, Sa, Sb, e->S, y[1], y[2]);
+    for (int q = 0; q < 3; q++) {
+        F[q] = E[q] - S[q];
+        J[q][0] = e->dir == 0 ? Ev[q] : Eu[q];
+        J[q][1] = -Sa[q];
+        J[q][2] = -Sb[q];
+    }
+}
+
+/* Inverse of a 3 x 3 matrix; 0 when (nearly) singular. */
+static int inv3(double M[3][3], const double A[3][3])
+{
+    double c[3][3];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+            c[i][j] = A[i1][j1] * A[i2][j2] - A[i1][j2] * A[i2][j1];
+        }
+    double det = A[0][0] * c[0][0] + A[0][1] * c[0][1] + A[0][2] * c[0][2];
+    double scale = 0;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            scale = fmax(scale, fabs(A[i][j]));
+    if (!(fabs(det) > 1e-14 * scale * scale * scale))
+        return 0;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            M[i][j] = c[j][i] / det;
+    return 1;
+}
+
+/* Newton from y (at most iters steps); 1 when it converged. */
+static int newton3(double y[3], const edge_sys *e, int iters)
+{
+    for (int it = 0; it < iters; it++) {
+        double F[3], J[3][3], M[3][3];
+        sys_pt(F, J, e, y);
+        if (!inv3(M, J))
+            return 0;
+        double step = 0;
+        for (int i = 0; i < 3; i++) {
+            double d = M[i][0] * F[0] + M[i][1] * F[1] + M[i][2] * F[2];
+            y[i] -= d;
+            step = fmax(step, fabs(d));
+        }
+        if (!isfinite(step) || step > 10)
+            return 0;
+        if (step < 1e-15)
+            return 1;
+    }
+    return 1;
+}
+
+/* Krawczyk operator of the box Y about c: 1 when K is inside the interior of Y (one simple
+ * root in Y, inside K), -1 when K misses Y (no root in Y), 0 otherwise. */
+static int krawczyk(_cb_iv K[3], const edge_sys *e, const _cb_iv Y[3], const double c[3])
+{
+    _cb_iv FY[3], JY[3][3], Fc[3], cc[3];
+    sys_iv(FY, JY, e, Y);
+    for (int i = 0; i < 3; i++)
+        cc[i] = _cb_iv_pt(c[i]);
+    sys_iv(Fc, NULL, e, cc);
+    double Jm[3][3], M[3][3];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            Jm[i][j] = iv_mid(JY[i][j]);
+    if (!inv3(M, Jm))
+        return 0;
+    int inside = 1, miss = 0;
+    for (int i = 0; i < 3; i++) {
+        _cb_iv k = _cb_iv_pt(c[i]);
+        for (int j = 0; j < 3; j++)
+            k = _cb_iv_sub(k, _cb_iv_mul(_cb_iv_pt(M[i][j]), Fc[j]));
+        for (int j = 0; j < 3; j++) {
+            _cb_iv a = _cb_iv_pt(i == j ? 1 : 0);
+            for (int l = 0; l < 3; l++)
+                a = _cb_iv_sub(a, _cb_iv_mul(_cb_iv_pt(M[i][l]), JY[l][j]));
+            k = _cb_iv_add(k, _cb_iv_mul(a, _cb_iv_sub(Y[j], _cb_iv_pt(c[j]))));
+        }
+        K[i] = k;
+        if (!(k.lo > Y[i].lo && k.hi < Y[i].hi))
+            inside = 0;
+        if (k.hi < Y[i].lo || k.lo > Y[i].hi)
+            miss = 1;
+    }
+    return miss ? -1 : inside;
+}
+
+/* 1 when 0 is outside the enclosure of F over B (natural or mean value form). */
+static int excluded(const edge_sys *e, const _cb_iv B[3])
+{
+    _cb_iv F[3], J[3][3], Fc[3], cc[3];
+    sys_iv(F, J, e, B);
+    if (!iv_has0(F[0]) || !iv_has0(F[1]) || !iv_has0(F[2]))
+        return 1;
+    double c[3];
+    for (int i = 0; i < 3; i++) {
+        c[i] = iv_mid(B[i]);
+        cc[i] = _cb_iv_pt(c[i]);
+    }
+    sys_iv(Fc, NULL, e, cc);
+    for (int q = 0; q < 3; q++) {
+        _cb_iv m = Fc[q];
+        for (int j = 0; j < 3; j++)
+            m = _cb_iv_add(m, _cb_iv_mul(J[q][j], _cb_iv_sub(B[j], _cb_iv_pt(c[j]))));
+        if (!iv_has0(m))
+            return 1;
+    }
+    return 0;
+}
+
+static int iv_inside(_cb_iv a, _cb_iv b)
+{
+    return a.lo >= b.lo && a.hi <= b.hi;
+}
+
+static int iv_inside_strict(_cb_iv a, _cb_iv b)
+{
+    return a.lo > b.lo && a.hi < b.hi;
+}
+
+static int iv_meets(_cb_iv a, _cb_iv b)
+{
+    return a.lo <= b.hi && b.lo <= a.hi;
+}
+
+typedef struct {
+    _cb_iv Y[3], K[3];
+} found;
+
+/* A search box with the control points of the curve and surface pieces over it. */
+typedef struct {
+    _cb_iv B[3];
+    _cb_iv *cn, *sn;
+} sbox;
+
+static void hull(double lo[3], double hi[3], const _cb_iv *net, int np)
+{
+    for (int q = 0; q < 3; q++) {
+        lo[q] = HUGE_VAL;
+        hi[q] = -HUGE_VAL;
+    }
+    for (int k = 0; k < np; k++)
+        for (int q = 0; q < 3; q++) {
+            lo[q] = fmin(lo[q], net[3 * k + q].lo);
+            hi[q] = fmax(hi[q], net[3 * k + q].hi);
+        }
+}
+
+/* Range of d . p over the enclosed points (rounding covered by a relative margin). */
+static void project(double r[2], const double d[3], const _cb_iv *net, int np)
+{
+    double lo = HUGE_VAL, hi = -HUGE_VAL, mag = 0;
+    for (int k = 0; k < np; k++) {
+        double l = 0, h = 0;
+        for (int q = 0; q < 3; q++) {
+            const _cb_iv x = net[3 * k + q];
+            l += d[q] >= 0 ? d[q] * x.lo : d[q] * x.hi;
+            h += d[q] >= 0 ? d[q] * x.hi : d[q] * x.lo;
+            mag = fmax(mag, fabs(d[q]) * fmax(fabs(x.lo), fabs(x.hi)));
+        }
+        lo = fmin(lo, l);
+        hi = fmax(hi, h);
+    }
+    r[0] = lo - 1e-14 * mag;
+    r[1] = hi + 1e-14 * mag;
+}
+
+static void sub3(double r[3], const _cb_iv *a, const _cb_iv *b)
+{
+    for (int q = 0; q < 3; q++)
+        r[q] = (a[q].lo + a[q].hi) * 0.5 - (b[q].lo + b[q].hi) * 0.5;
+}
+
+static void cross3(double c[3], const double a[3], const double b[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* 1 when the hulls of the curve piece (nc points) and the surface piece (m, n) are proved
+ * apart along the world axes, the surface's corner normal or its in-plane directions. */
+static int hulls_apart(const _cb_iv *cn, int nc, const _cb_iv *sn, int m, int n)
+{
+    double cl[3], ch[3], sl[3], sh[3];
+    hull(cl, ch, cn, nc);
+    hull(sl, sh, sn, (m + 1) * (n + 1));
+    for (int q = 0; q < 3; q++)
+        if (ch[q] < sl[q] || sh[q] < cl[q])
+            return 1;
+    double du[3], dv[3], nn[3], ax[5][3];
+    sub3(du, sn + 3 * (m * (n + 1)), sn);
+    sub3(dv, sn + 3 * n, sn);
+    cross3(nn, du, dv);
+    memcpy(ax[0], nn, sizeof nn);
+    memcpy(ax[1], du, sizeof du);
+    memcpy(ax[2], dv, sizeof dv);
+    cross3(ax[3], nn, du);
+    cross3(ax[4], nn, dv);
+    for (int x = 0; x < 5; x++) {
+        double rc[2], rs[2];
+        project(rc, ax[x], cn, nc);
+        project(rs, ax[x], sn, (m + 1) * (n + 1));
+        if (rc[1] < rs[0] || rs[1] < rc[0])
+            return 1;
+    }
+    return 0;
+}
+
+int _cb_ssi_edge_roots(_cb_ssi_edge_root *roots, int cap, int *n, const _cb_ssi_bez *C, int dir,
+                       double c, double w0, double w1, const _cb_iv *cnet, const _cb_ssi_bez *S,
+                       const double box[4], const _cb_iv *snet, int budget)
+{
+    edge_sys e = {C, S, dir, c};
+    _cb_iv D[3] = {{w0, w1}, {box[0], box[1]}, {box[2], box[3]}};
+    const double minw = 1e-13;
+    int dc_ = dir == 0 ? C->n : C->m, nc = dc_ + 1, m = S->m, ns = S->n, np = (m + 1) * (ns + 1);
+    enum { MAXSTACK = 200, MAXFOUND = 32 };
+    sbox *stack = malloc(MAXSTACK * sizeof(sbox));
+    _cb_iv *pool = malloc((size_t)MAXSTACK * (size_t)(nc + np) * 3 * sizeof(_cb_iv));
+    for (int k = 0; k < MAXSTACK; k++) {
+        stack[k].cn = pool + (size_t)k * (size_t)(nc + np) * 3;
+        stack[k].sn = stack[k].cn + 3 * nc;
+    }
+    _cb_iv *tmp = malloc((size_t)(nc + np) * 3 * sizeof(_cb_iv));
+    found fd[MAXFOUND];
+    int sp = 0, nf = 0, ok = 1, work = 0;
+    memcpy(stack[0].B, D, sizeof D);
+    memcpy(stack[0].cn, cnet, 3 * (size_t)nc * sizeof(_cb_iv));
+    memcpy(stack[0].sn, snet, 3 * (size_t)np * sizeof(_cb_iv));
+    sp = 1;
+    double dw = fmax(w1 - w0, fmax(box[1] - box[0], box[3] - box[2]));
+    while (sp > 0 && ok) {
+        sbox *top = stack + --sp;
+        _cb_iv B[3];
+        memcpy(B, top->B, sizeof B);
+        if (++work > budget) {
+            ok = 0;
+            break;
+        }
+        if (hulls_apart(top->cn, nc, top->sn, m, ns))
+            continue;
+        double bw = fmax(iv_w(B[0]), fmax(iv_w(B[1]), iv_w(B[2])));
+        if (bw <= dw / 4) {
+            if (excluded(&e, B))
+                continue;
+            /* Try to prove one root in a box Y holding B: centred on a Newton point when
+             * Newton stays near B, else on B's centre. */
+            double y[3], mid[3];
+            for (int i = 0; i < 3; i++)
+                y[i] = mid[i] = iv_mid(B[i]);
+            int conv = newton3(y, &e, 8);
+            for (int i = 0; i < 3 && conv; i++)
+                if (fabs(y[i] - mid[i]) > iv_w(B[i]))
+                    conv = 0;
+            if (!conv)
+                memcpy(y, mid, sizeof y);
+            _cb_iv Y[3], K[3];
+            for (int i = 0; i < 3; i++) {
+                double pad = 0.05 * iv_w(B[i]) + 1e-15;
+                Y[i].lo = fmin(B[i].lo, y[i]) - pad;
+                Y[i].hi = fmax(B[i].hi, y[i]) + pad;
+            }
+            int kr = krawczyk(K, &e, Y, y);
+            if (kr < 0)
+                continue;
+            if (kr > 0) {
+                int in_d = 1, out_d = 0;
+                for (int i = 0; i < 3; i++) {
+                    in_d &= iv_inside_strict(K[i], D[i]);
+                    out_d |= !iv_meets(K[i], D[i]);
+                }
+                if (out_d)
+                    continue;
+                if (!in_d) {
+                    ok = 0;
+                    break;
+                }
+                int dup = 0;
+                for (int f = 0; f < nf && !dup && ok; f++) {
+                    int a = 1, b = 1, mt = 1;
+                    for (int i = 0; i < 3; i++) {
+                        a &= iv_inside(K[i], fd[f].Y[i]);
+                        b &= iv_inside(fd[f].K[i], Y[i]);
+                        mt &= iv_meets(K[i], fd[f].K[i]);
+                    }
+                    if (a || b)
+                        dup = 1;
+                    else if (mt)
+                        ok = 0;
+                }
+                if (dup || !ok)
+                    continue;
+                if (nf == MAXFOUND || *n >= cap) {
+                    ok = 0;
+                    break;
+                }
+                memcpy(fd[nf].Y, Y, sizeof Y);
+                memcpy(fd[nf].K, K, sizeof K);
+                nf++;
+                _cb_ssi_edge_root *r = roots + (*n)++;
+                double z[3];
+                for (int i = 0; i < 3; i++)
+                    z[i] = iv_mid(K[i]);
+                newton3(z, &e, 6);
+                for (int i = 0; i < 3; i++) {
+                    /* The root is in K; a Newton point that left it is replaced by K's
+                     * centre. */
+                    r->y[i] = (z[i] >= K[i].lo && z[i] <= K[i].hi) ? z[i] : iv_mid(K[i]);
+                    r->k[i] = K[i];
+                }
+                continue;
+            }
+        }
+        /* Split B along its widest side, with the curve or surface piece. */
+        int d = 0;
+        for (int i = 1; i < 3; i++)
+            if (iv_w(B[i]) > iv_w(B[d]))
+                d = i;
+        if (iv_w(B[d]) < minw || sp + 2 > MAXSTACK) {
+            ok = 0;
+            break;
+        }
+        double h = iv_mid(B[d]);
+        sbox *lo = stack + sp, *hi = stack + sp + 1;
+        /* top is at index sp (just popped): copy it aside before overwriting. */
+        memcpy(tmp, top->cn, (size_t)(nc + np) * 3 * sizeof(_cb_iv));
+        const _cb_iv *tc = tmp, *ts = tmp + 3 * nc;
+        memcpy(lo->B, B, sizeof B);
+        memcpy(hi->B, B, sizeof B);
+        lo->B[d].hi = h;
+        hi->B[d].lo = h;
+        if (d == 0) {
+            _cb_ssi_split_iv(lo->cn, hi->cn, tc, dc_, 3);
+            memcpy(lo->sn, ts, 3 * (size_t)np * sizeof(_cb_iv));
+            memcpy(hi->sn, ts, 3 * (size_t)np * sizeof(_cb_iv));
+        } else {
+            memcpy(lo->cn, tc, 3 * (size_t)nc * sizeof(_cb_iv));
+            memcpy(hi->cn, tc, 3 * (size_t)nc * sizeof(_cb_iv));
+            if (d == 1)
+                for (int j = 0; j <= ns; j++)
+                    _cb_ssi_split_iv(lo->sn + 3 * j, hi->sn + 3 * j, ts + 3 * j, m, 3 * (ns + 1));
+            else
+                for (int i = 0; i <= m; i++)
+                    _cb_ssi_split_iv(lo->sn + 3 * i * (ns + 1), hi->sn + 3 * i * (ns + 1),
+                                     ts + 3 * i * (ns + 1), ns, 3);
+        }
+        /* Depth first, lower half next. */
+        sbox t = stack[sp];
+        stack[sp] = stack[sp + 1];
+        stack[sp + 1] = t;
+        sp += 2;
+    }
+    free(tmp);
+    free(pool);
+    free(stack);
+    return ok;
+}

@@ -1,0 +1,706 @@
+/* spline_pair.c — subdivision, normal-cone certification, boundary points and marching for one
+ * pair of polynomial Bezier patches (see ssi/spline.h for the method and what it proves). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ssi/spline.h"
+
+/* Boxes of the (edge parameter, other patch) search per boundary curve. */
+#define EDGE_BUDGET 4000
+/* Boundary points kept per sub-patch pair; more means many branches (split further). */
+#define MAX_BPTS 16
+
+/* ---------------------------------------------------------------- sub-patches -------------- */
+
+typedef struct {
+    double box[4];   /* local parameters of the Bezier patch: u0, u1, v0, v1 */
+    _cb_iv *net;     /* 3 (m + 1)(n + 1) enclosures of the sub-patch's control points */
+    double *nm, *nr; /* Bernstein coefficients of S_u x S_v (in the sub-patch's own
+                        parameters): centres (3 each) and radii bounding every component */
+    double nsum[3];  /* sum of the centres: a mean normal direction */
+    double lo[3], hi[3], size;
+    int child[4], depth;
+} node;
+
+typedef struct {
+    const _cb_ssi_bez *b;
+    node *nd;
+    int n, alloc, nn; /* nodes; nn normal coefficients per node */
+} tree;
+
+static long binom(int n, int k)
+{
+    long r = 1;
+    for (int i = 1; i <= k; i++)
+        r = r * (n - k + i) / i;
+    return r;
+}
+
+/* Normal coefficients and box of node k from its net. */
+static void node_finish(tree *T, int k)
+{
+    node *d = T->nd + k;
+    int m = T->b->m, n = T->b->n, nv = n + 1;
+    const _cb_iv *P = d->net;
+    for (int q = 0; q < 3; q++) {
+        d->lo[q] = HUGE_VAL;
+        d->hi[q] = -HUGE_VAL;
+    }
+    for (int i = 0; i < (m + 1) * nv; i++)
+        for (int q = 0; q < 3; q++) {
+            d->lo[q] = fmin(d->lo[q], P[3 * i + q].lo);
+            d->hi[q] = fmax(d->hi[q], P[3 * i + q].hi);
+        }
+    d->size = sqrt((d->hi[0] - d->lo[0]) * (d->hi[0] - d->lo[0]) +
+                   (d->hi[1] - d->lo[1]) * (d->hi[1] - d->lo[1]) +
+                   (d->hi[2] - d->lo[2]) * (d->hi[2] - d->lo[2]));
+    int K = 2 * m, L = 2 * n;
+    _cb_iv *N = calloc((size_t)(3 * K * L), sizeof(_cb_iv));
+    for (int i = 0; i < m; i++)
+        for (int j = 0; j <= n; j++) {
+            _cb_iv A[3];
+            for (int q = 0; q < 3; q++)
+                A[q] = _cb_iv_sub(P[3 * ((i + 1) * nv + j) + q], P[3 * (i * nv + j) + q]);
+            for (int i2 = 0; i2 <= m; i2++)
+                for (int j2 = 0; j2 < n; j2++) {
+                    _cb_iv B[3], X[3];
+                    for (int q = 0; q < 3; q++)
+                        B[q] = _cb_iv_sub(P[3 * (i2 * nv + j2 + 1) + q], P[3 * (i2 * nv + j2) + q]);
+                    for (int q = 0; q < 3; q++) {
+                        int a = (q + 1) % 3, b = (q + 2) % 3;
+                        X[q] = _cb_iv_sub(_cb_iv_mul(A[a], B[b]), _cb_iv_mul(A[b], B[a]));
+                    }
+                    int k = i + i2, l = j + j2;
+                    double num = (double)(binom(m - 1, i) * binom(m, i2)) *
+                                 (double)(binom(n, j) * binom(n - 1, j2));
+                    double den = (double)binom(2 * m - 1, k) * (double)binom(2 * n - 1, l);
+                    double w = num / den;
+                    _cb_iv wi = {_cb_iv_dn(w), _cb_iv_up(w)};
+                    for (int q = 0; q < 3; q++)
+                        N[3 * (k * L + l) + q] =
+                            _cb_iv_add(N[3 * (k * L + l) + q], _cb_iv_mul(wi, X[q]));
+                }
+        }
+    for (int q = 0; q < 3; q++)
+        d->nsum[q] = 0;
+    for (int c = 0; c < K * L; c++) {
+        double r = 0;
+        for (int q = 0; q < 3; q++) {
+            _cb_iv x = N[3 * c + q];
+            double mid = 0.5 * x.lo + 0.5 * x.hi;
+            d->nm[3 * c + q] = mid;
+            r = fmax(r, fmax(_cb_iv_up(x.hi - mid), _cb_iv_up(mid - x.lo)));
+            d->nsum[q] += mid;
+        }
+        d->nr[c] = r;
+    }
+    free(N);
+}
+
+static int node_add(tree *T)
+{
+    if (T->n == T->alloc) {
+        T->alloc = T->alloc ? 2 * T->alloc : 64;
+        T->nd = realloc(T->nd, (size_t)T->alloc * sizeof(node));
+    }
+    node *d = T->nd + T->n;
+    memset(d, 0, sizeof(*d));
+    int np = (T->b->m + 1) * (T->b->n + 1);
+    d->net = malloc((size_t)(3 * np) * sizeof(_cb_iv));
+    d->nm = malloc((size_t)(3 * T->nn) * sizeof(double));
+    d->nr = malloc((size_t)T->nn * sizeof(double));
+    for (int c = 0; c < 4; c++)
+        d->child[c] = -1;
+    return T->n++;
+}
+
+static void tree_init(tree *T, const _cb_ssi_bez *b)
+{
+    memset(T, 0, sizeof(*T));
+    T->b = b;
+    T->nn = 4 * b->m * b->n;
+    int k = node_add(T);
+    node *d = T->nd + k;
+    const double box[4] = {0, 1, 0, 1};
+    memcpy(d->box, box, sizeof box);
+    for (int i = 0; i < 3 * (b->m + 1) * (b->n + 1); i++)
+        d->net[i] = _cb_iv_pt(b->pts[i]);
+    node_finish(T, k);
+}
+
+static void tree_clear(tree *T)
+{
+    for (int k = 0; k < T->n; k++) {
+        free(T->nd[k].net);
+        free(T->nd[k].nm);
+        free(T->nd[k].nr);
+    }
+    free(T->nd);
+}
+
+/* Children of node k (u halves outer, v halves inner), made once. */
+static void node_split(tree *T, int k)
+{
+    if (T->nd[k].child[0] >= 0)
+        return;
+    int m = T->b->m, n = T->b->n, nv = n + 1, np = (m + 1) * nv;
+    _cb_iv *ulo = malloc((size_t)(3 * np) * sizeof(_cb_iv)),
+           *uhi = malloc((size_t)(3 * np) * sizeof(_cb_iv));
+    for (int j = 0; j <= n; j++)
+        _cb_ssi_split_iv(ulo + 3 * j, uhi + 3 * j, T->nd[k].net + 3 * j, m, 3 * nv);
+    for (int h = 0; h < 2; h++) {
+        const _cb_iv *half = h ? uhi : ulo;
+        for (int g = 0; g < 2; g++) {
+            int c = node_add(T);
+            node *par = T->nd + k, *d = T->nd + c;
+            par->child[2 * h + g] = c;
+            d->depth = par->depth + 1;
+            double um = 0.5 * (par->box[0] + par->box[1]), vm = 0.5 * (par->box[2] + par->box[3]);
+            d->box[0] = h ? um : par->box[0];
+            d->box[1] = h ? par->box[1] : um;
+            d->box[2] = g ? vm : par->box[2];
+            d->box[3] = g ? par->box[3] : vm;
+            _cb_iv *tmp = malloc((size_t)(3 * np) * sizeof(_cb_iv));
+            for (int i = 0; i <= m; i++) {
+                if (g)
+                    _cb_ssi_split_iv(tmp + 3 * i * nv, d->net + 3 * i * nv, half + 3 * i * nv, n,
+                                     3);
+                else
+                    _cb_ssi_split_iv(d->net + 3 * i * nv, tmp + 3 * i * nv, half + 3 * i * nv, n,
+                                     3);
+            }
+            free(tmp);
+            node_finish(T, c);
+        }
+    }
+    free(ulo);
+    free(uhi);
+}
+
+/* ---------------------------------------------------------------- tests -------------------- */
+
+/* 1 when the nets' projections on some axis are disjoint (proved: interval nets, rounding
+ * margin). */
+static int separated(const node *a, const node *b, const double extra[][3], int nextra)
+{
+    for (int q = 0; q < 3; q++)
+        if (a->hi[q] < b->lo[q] || b->hi[q] < a->lo[q])
+            return 1;
+    for (int x = 0; x < nextra; x++) {
+        const double *d = extra[x];
+        double r[2][2];
+        const node *nd[2] = {a, b};
+        for (int s = 0; s < 2; s++) {
+            double lo = 0, hi = 0, mag = 0;
+            for (int q = 0; q < 3; q++) {
+                lo += d[q] >= 0 ? d[q] * nd[s]->lo[q] : d[q] * nd[s]->hi[q];
+                hi += d[q] >= 0 ? d[q] * nd[s]->hi[q] : d[q] * nd[s]->lo[q];
+                mag += fabs(d[q]) * fmax(fabs(nd[s]->lo[q]), fabs(nd[s]->hi[q]));
+            }
+            r[s][0] = lo - 1e-14 * mag;
+            r[s][1] = hi + 1e-14 * mag;
+        }
+        if (r[0][1] < r[1][0] || r[1][1] < r[0][0])
+            return 1;
+    }
+    return 0;
+}
+
+/* 1 when the control polygon of side (0 u = lo, 1 u = hi, 2 v = lo, 3 v = hi) of node c (a
+ * patch of degree m, n) is separated from node s: that boundary curve misses s. */
+static int edge_separated(const node *c, int m, int n, int side, const node *s,
+                          const double extra[][3], int nextra)
+{
+    node t;
+    for (int q = 0; q < 3; q++) {
+        t.lo[q] = HUGE_VAL;
+        t.hi[q] = -HUGE_VAL;
+    }
+    int cnt = side < 2 ? n + 1 : m + 1;
+    for (int k = 0; k < cnt; k++) {
+        int i = side == 0 ? 0 : side == 1 ? m : k, j = side == 2 ? 0 : side == 3 ? n : k;
+        const _cb_iv *p = c->net + 3 * (i * (n + 1) + j);
+        for (int q = 0; q < 3; q++) {
+            t.lo[q] = fmin(t.lo[q], p[q].lo);
+            t.hi[q] = fmax(t.hi[q], p[q].hi);
+        }
+    }
+    return separated(&t, s, extra, nextra);
+}
+
+/* A direction e with e . (a x b) > 0 proved for all normal coefficients a of A and b of B
+ * (then for all normals, their convex combinations). */
+static int cone_direction(double e[3], const node *A, const node *B, int na, int nb)
+{
+    const double *p = A->nsum, *q = B->nsum;
+    e[0] = p[1] * q[2] - p[2] * q[1];
+    e[1] = p[2] * q[0] - p[0] * q[2];
+    e[2] = p[0] * q[1] - p[1] * q[0];
+    double len = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    if (!(len > 0) || !isfinite(len))
+        return 0;
+    for (int k = 0; k < 3; k++)
+        e[k] /= len;
+    const double E[3] = {fabs(e[0]), fabs(e[1]), fabs(e[2])};
+    const double eps = 0x1p-52;
+    for (int i = 0; i < na; i++) {
+        const double *a = A->nm + 3 * i, ra = A->nr[i];
+        const double Aa[3] = {fabs(a[0]), fabs(a[1]), fabs(a[2])};
+        for (int j = 0; j < nb; j++) {
+            const double *b = B->nm + 3 * j, rb = B->nr[j];
+            const double Bb[3] = {fabs(b[0]), fabs(b[1]), fabs(b[2])};
+            double t = e[0] * (a[1] * b[2] - a[2] * b[1]) + e[1] * (a[2] * b[0] - a[0] * b[2]) +
+                       e[2] * (a[0] * b[1] - a[1] * b[0]);
+            /* |e . (a' x b') - e . (a x b)| for |a' - a|, |b' - b| <= ra, rb per component,
+             * plus the rounding of t (< 8 eps of the sum of absolute terms). */
+            double bound = 0;
+            for (int x = 0; x < 3; x++) {
+                int y = (x + 1) % 3, z = (x + 2) % 3;
+                bound += E[x] * (ra * (Bb[z] + rb) + Aa[y] * rb + ra * (Bb[y] + rb) + Aa[z] * rb);
+                bound += 8 * eps * E[x] * (Aa[y] * Bb[z] + Aa[z] * Bb[y]);
+            }
+            if (!(t > bound * (1 + 1e-12) + 1e-300))
+                return 0;
+        }
+    }
+    return 1;
+}
+
+/* ---------------------------------------------------------------- boundary points ---------- */
+
+typedef struct {
+    double x[4]; /* u, v, s, t (local) */
+    double h;    /* e . X */
+    int entry;
+} bpt;
+
+static void cross(double c[3], const double a[3], const double b[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static double dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Velocity of the curve (tangent T) in the parameters of a patch with partials Xu, Xv. */
+static void param_velocity(double d[2], const double Xu[3], const double Xv[3], const double T[3])
+{
+    double g11 = dot(Xu, Xu), g12 = dot(Xu, Xv), g22 = dot(Xv, Xv);
+    double r1 = dot(Xu, T), r2 = dot(Xv, T), det = g11 * g22 - g12 * g12;
+    d[0] = (g22 * r1 - g12 * r2) / det;
+    d[1] = (g11 * r2 - g12 * r1) / det;
+}
+
+/* Boundary points of the sub-pair: -1 ambiguous, else their number. side: 0 u = lo, 1 u = hi,
+ * 2 v = lo, 3 v = hi of patch P (which = 0) or Q (which = 1). */
+static int boundary_points(bpt *out, const _cb_ssi_bez *P, const _cb_ssi_bez *Q, const node *a,
+                           const node *b, const double e[3])
+{
+    int nb = 0;
+    for (int which = 0; which < 2; which++) {
+        const _cb_ssi_bez *C = which ? Q : P, *S = which ? P : Q;
+        const node *cn = which ? b : a, *sn = which ? a : b;
+        double ax[1][3], ls = sqrt(dot(sn->nsum, sn->nsum));
+        for (int q = 0; q < 3; q++)
+            ax[0][q] = sn->nsum[q] / ls;
+        for (int side = 0; side < 4; side++) {
+            if (edge_separated(cn, C->m, C->n, side, sn, (const double(*)[3])ax,
+                               ls > 0 && isfinite(ls)))
+                continue;
+            int dir = side < 2 ? 0 : 1;
+            double c = cn->box[side];
+            double w0 = dir == 0 ? cn->box[2] : cn->box[0], w1 = dir == 0 ? cn->box[3] : cn->box[1];
+            _cb_ssi_edge_root r[MAX_BPTS];
+            _cb_iv cnet[3 * (CB_MAX_DEGREE + 1)];
+            int nc = dir == 0 ? C->n + 1 : C->m + 1;
+            for (int k = 0; k < nc; k++) {
+                int i = side == 0   ? 0
+                        : side == 1 ? C->m
+                                    : k,
+                    j = side == 2   ? 0
+                        : side == 3 ? C->n
+                                    : k;
+                memcpy(cnet + 3 * k, cn->net + 3 * (i * (C->n + 1) + j), 3 * sizeof(_cb_iv));
+            }
+            int n = 0;
+            if (!_cb_ssi_edge_roots(r, MAX_BPTS, &n, C, dir, c, w0, w1, cnet, S, sn->box, sn->net,
+                                    EDGE_BUDGET))
+                return -1;
+            for (int k = 0; k < n; k++) {
+                if (nb == MAX_BPTS)
+                    return -1;
+                double cp[2] = {dir == 0 ? c : r[k].y[0], dir == 0 ? r[k].y[0] : c};
+                bpt *o = out + nb++;
+                double *own = which ? o->x + 2 : o->x, *oth = which ? o->x : o->x + 2;
+                own[0] = cp[0];
+                own[1] = cp[1];
+                oth[0] = r[k].y[1];
+                oth[1] = r[k].y[2];
+                double X[3], Pu[3], Pv[3], Y[3], Qs[3], Qt[3], nP[3], nQ[3], T[3], vel[2];
+                _cb_ssi_bez_eval(X, Pu, Pv, P, o->x[0], o->x[1]);
+                _cb_ssi_bez_eval(Y, Qs, Qt, Q, o->x[2], o->x[3]);
+                cross(nP, Pu, Pv);
+                cross(nQ, Qs, Qt);
+                cross(T, nP, nQ);
+                if (dot(e, T) < 0)
+                    for (int q = 0; q < 3; q++)
+                        T[q] = -T[q];
+                o->h = 0.5 * (dot(e, X) + dot(e, Y));
+                if (which)
+                    param_velocity(vel, Qs, Qt, T);
+                else
+                    param_velocity(vel, Pu, Pv, T);
+                /* Across the side the velocity is non-zero at a simple root; a tiny one is
+                 * too close to call. */
+                double across = vel[dir] *
+                                sqrt(dot(dir == 0 ? (which ? Qs : Pu) : (which ? Qt : Pv),
+                                         dir == 0 ? (which ? Qs : Pu) : (which ? Qt : Pv))) /
+                                sqrt(dot(T, T));
+                if (!(fabs(across) > 1e-9))
+                    return -1;
+                o->entry = (side % 2 == 0) ? across > 0 : across < 0;
+            }
+        }
+    }
+    return nb;
+}
+
+/* ---------------------------------------------------------------- marching ----------------- */
+
+typedef struct {
+    const _cb_ssi_bez *P, *Q;
+    double e[3];
+    const double *bp, *bq; /* boxes */
+    double tol;
+} march_ctx;
+
+/* Gaussian elimination with partial pivoting, 4 x 4; 0 when singular. */
+static int solve4(double x[4], double A[4][4], double b[4])
+{
+    for (int c = 0; c < 4; c++) {
+        int p = c;
+        for (int r = c + 1; r < 4; r++)
+            if (fabs(A[r][c]) > fabs(A[p][c]))
+                p = r;
+        if (!(fabs(A[p][c]) > 0))
+            return 0;
+        for (int k = 0; k < 4; k++) {
+            double t = A[c][k];
+            A[c][k] = A[p][k];
+            A[p][k] = t;
+        }
+        double t = b[c];
+        b[c] = b[p];
+        b[p] = t;
+        for (int r = c + 1; r < 4; r++) {
+            double f = A[r][c] / A[c][c];
+            for (int k = c; k < 4; k++)
+                A[r][k] -= f * A[c][k];
+            b[r] -= f * b[c];
+        }
+    }
+    for (int c = 3; c >= 0; c--) {
+        double s = b[c];
+        for (int k = c + 1; k < 4; k++)
+            s -= A[c][k] * x[k];
+        x[c] = s / A[c][c];
+    }
+    return 1;
+}
+
+static void jac(double J[4][4], double F[4], double X[3], double Y[3], const march_ctx *m,
+                const double x[4], double h)
+{
+    double Pu[3], Pv[3], Qs[3], Qt[3];
+    _cb_ssi_bez_eval(X, Pu, Pv, m->P, x[0], x[1]);
+    _cb_ssi_bez_eval(Y, Qs, Qt, m->Q, x[2], x[3]);
+    for (int q = 0; q < 3; q++) {
+        J[q][0] = Pu[q];
+        J[q][1] = Pv[q];
+        J[q][2] = -Qs[q];
+        J[q][3] = -Qt[q];
+        F[q] = X[q] - Y[q];
+    }
+    J[3][0] = dot(m->e, Pu);
+    J[3][1] = dot(m->e, Pv);
+    J[3][2] = J[3][3] = 0;
+    F[3] = dot(m->e, X) - h;
+}
+
+static int in_boxes(const march_ctx *m, const double x[4])
+{
+    const double sl = 1e-12;
+    return x[0] >= m->bp[0] - sl && x[0] <= m->bp[1] + sl && x[1] >= m->bp[2] - sl &&
+           x[1] <= m->bp[3] + sl && x[2] >= m->bq[0] - sl && x[2] <= m->bq[1] + sl &&
+           x[3] >= m->bq[2] - sl && x[3] <= m->bq[3] + sl;
+}
+
+/* Newton onto the branch at height h; 1 when it settled inside the boxes with |P - Q| <= tol /
+ * 100. Steps stall at round-off (larger where the normals are nearly parallel), so settling
+ * means steps below 1e-9 once the residual is met, not a fixed round-off level. */
+static int correct(double x[4], const march_ctx *m, double h)
+{
+    double step = HUGE_VAL;
+    for (int it = 0; it < 20 && step > 1e-14; it++) {
+        double J[4][4], F[4], X[3], Y[3], d[4];
+        jac(J, F, X, Y, m, x, h);
+        if (!solve4(d, J, F))
+            return 0;
+        step = 0;
+        for (int k = 0; k < 4; k++) {
+            x[k] -= d[k];
+            step = fmax(step, fabs(d[k]));
+        }
+        if (!isfinite(step) || !in_boxes(m, x))
+            return 0;
+    }
+    double J[4][4], F[4], X[3], Y[3];
+    jac(J, F, X, Y, m, x, h);
+    return step < 1e-9 && sqrt(F[0] * F[0] + F[1] * F[1] + F[2] * F[2]) <= m->tol / 100;
+}
+
+/* dx/dh along the branch at x. */
+static int tangent(double t[4], const march_ctx *m, const double x[4], double h)
+{
+    double J[4][4], F[4], X[3], Y[3], rhs[4] = {0, 0, 0, 1};
+    jac(J, F, X, Y, m, x, h);
+    return solve4(t, J, rhs);
+}
+
+static void point_xyz(double X[3], const march_ctx *m, const double x[4])
+{
+    double A[3], B[3], d1[3], d2[3];
+    _cb_ssi_bez_eval(A, d1, d2, m->P, x[0], x[1]);
+    _cb_ssi_bez_eval(B, d1, d2, m->Q, x[2], x[3]);
+    for (int q = 0; q < 3; q++)
+        X[q] = 0.5 * (A[q] + B[q]);
+}
+
+static void push(_cb_ssi_piece *pc, const march_ctx *m, const double x[4])
+{
+    double X[3], A[3], B[3], d1[3], d2[3];
+    _cb_ssi_bez_eval(A, d1, d2, m->P, x[0], x[1]);
+    _cb_ssi_bez_eval(B, d1, d2, m->Q, x[2], x[3]);
+    for (int q = 0; q < 3; q++)
+        X[q] = 0.5 * (A[q] + B[q]);
+    double gap = sqrt((A[0] - B[0]) * (A[0] - B[0]) + (A[1] - B[1]) * (A[1] - B[1]) +
+                      (A[2] - B[2]) * (A[2] - B[2]));
+    _cb_ssi_pq q;
+    memset(&q, 0, sizeof q);
+    const double *dp = m->P->dom, *dq = m->Q->dom;
+    q.uv[0] = dp[0] + x[0] * (dp[1] - dp[0]);
+    q.uv[1] = dp[2] + x[1] * (dp[3] - dp[2]);
+    q.st[0] = dq[0] + x[2] * (dq[1] - dq[0]);
+    q.st[1] = dq[2] + x[3] * (dq[3] - dq[2]);
+    _cb_ssi_piece_push(pc, &q, X);
+    pc->gap = fmax(pc->gap, gap);
+}
+
+static double seg_dist(const double p[3], const double a[3], const double b[3])
+{
+    double ab[3], ap[3];
+    for (int q = 0; q < 3; q++) {
+        ab[q] = b[q] - a[q];
+        ap[q] = p[q] - a[q];
+    }
+    double l2 = dot(ab, ab), f = l2 > 0 ? fmin(1, fmax(0, dot(ab, ap) / l2)) : 0, d = 0;
+    for (int q = 0; q < 3; q++)
+        d += (ap[q] - f * ab[q]) * (ap[q] - f * ab[q]);
+    return sqrt(d);
+}
+
+/* Marches the single branch from entry a to exit b; 1 on success (piece appended). */
+static int march(_cb_ssi_piece_set *out, const march_ctx *m, const bpt *a, const bpt *b,
+                 double chord, double max_seg)
+{
+    double span = b->h - a->h;
+    if (!(span > 0))
+        return 0;
+    _cb_ssi_piece pc;
+    _cb_ssi_piece_init(&pc);
+    push(&pc, m, a->x);
+    double x[4], h = a->h, dh = span / 2;
+    memcpy(x, a->x, sizeof x);
+    int ok = 1;
+    while (ok) {
+        if (dh < span * 1e-9) {
+            ok = 0;
+            break;
+        }
+        double hn = h + dh, xn[4], xm[4], t[4];
+        int last = hn >= b->h - 1e-12 * span;
+        if (last) {
+            hn = b->h;
+            memcpy(xn, b->x, sizeof xn);
+        } else {
+            if (!tangent(t, m, x, h)) {
+                ok = 0;
+                break;
+            }
+            for (int k = 0; k < 4; k++)
+                xn[k] = x[k] + (hn - h) * t[k];
+            if (!correct(xn, m, hn)) {
+                dh *= 0.5;
+                continue;
+            }
+        }
+        double X0[3], X1[3], Xm[3];
+        point_xyz(X0, m, x);
+        point_xyz(X1, m, xn);
+        for (int k = 0; k < 4; k++)
+            xm[k] = 0.5 * (x[k] + xn[k]);
+        if (!correct(xm, m, 0.5 * (h + hn))) {
+            dh *= 0.5;
+            continue;
+        }
+        point_xyz(Xm, m, xm);
+        double len = sqrt((X1[0] - X0[0]) * (X1[0] - X0[0]) + (X1[1] - X0[1]) * (X1[1] - X0[1]) +
+                          (X1[2] - X0[2]) * (X1[2] - X0[2]));
+        if (len > max_seg || seg_dist(Xm, X0, X1) > chord) {
+            dh *= 0.5;
+            continue;
+        }
+        push(&pc, m, xn);
+        memcpy(x, xn, sizeof x);
+        h = hn;
+        if (last)
+            break;
+        dh *= 1.5;
+    }
+    if (ok) {
+        _cb_ssi_piece *p = _cb_ssi_piece_set_add(out);
+        *p = pc;
+    } else {
+        _cb_ssi_piece_clear(&pc);
+    }
+    return ok;
+}
+
+/* ---------------------------------------------------------------- the pair ----------------- */
+
+static void add_box(double u[4], const double b[4], int first)
+{
+    if (first) {
+        memcpy(u, b, 4 * sizeof(double));
+        return;
+    }
+    u[0] = fmin(u[0], b[0]);
+    u[1] = fmax(u[1], b[1]);
+    u[2] = fmin(u[2], b[2]);
+    u[3] = fmax(u[3], b[3]);
+}
+
+static void uncertified(_cb_ssi_spline_stats *st, const node *a, const node *b)
+{
+    add_box(st->box_p, a->box, st->uncertified == 0);
+    add_box(st->box_q, b->box, st->uncertified == 0);
+    st->uncertified++;
+}
+
+static double width(const node *d)
+{
+    return fmax(d->box[1] - d->box[0], d->box[3] - d->box[2]);
+}
+
+void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const _cb_ssi_bez *P,
+                         const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o)
+{
+    memset(st, 0, sizeof(*st));
+    tree TP, TQ;
+    tree_init(&TP, P);
+    tree_init(&TQ, Q);
+    double floor_w = ldexp(1.0, -o->max_depth);
+    long alloc = 64, sp = 0;
+    int(*stack)[2] = malloc((size_t)alloc * sizeof(*stack));
+    stack[sp][0] = 0;
+    stack[sp][1] = 0;
+    sp++;
+    while (sp > 0) {
+        sp--;
+        int ia = stack[sp][0], ib = stack[sp][1];
+        if (st->subpairs >= o->max_subpairs) {
+            uncertified(st, TP.nd + ia, TQ.nd + ib);
+            continue;
+        }
+        st->subpairs++;
+        const node *a = TP.nd + ia, *b = TQ.nd + ib;
+        double axes[3][3];
+        double la = sqrt(dot(a->nsum, a->nsum)), lb = sqrt(dot(b->nsum, b->nsum));
+        int nax = 0;
+        if (la > 0 && isfinite(la)) {
+            for (int q = 0; q < 3; q++)
+                axes[nax][q] = a->nsum[q] / la;
+            nax++;
+        }
+        if (lb > 0 && isfinite(lb)) {
+            for (int q = 0; q < 3; q++)
+                axes[nax][q] = b->nsum[q] / lb;
+            nax++;
+        }
+        if (separated(a, b, (const double(*)[3])axes, nax))
+            continue;
+        double e[3];
+        int reason = 0; /* 1 no direction, 2 ambiguous roots, 3 several or inconsistent ends */
+        bpt bp[MAX_BPTS];
+        int nb = 0;
+        if (!cone_direction(e, a, b, TP.nn, TQ.nn))
+            reason = 1;
+        if (!reason) {
+            nb = boundary_points(bp, P, Q, a, b, e);
+            if (nb < 0)
+                reason = 2;
+            else if (nb > 0) {
+                int ne = 0;
+                for (int k = 0; k < nb; k++)
+                    ne += bp[k].entry;
+                /* Several branches, or two ends that do not read as entry below exit. */
+                if (nb != 2 || ne != 1 || !(bp[bp[0].entry].h > bp[!bp[0].entry].h))
+                    reason = 3;
+            }
+        }
+        if (!reason) {
+            st->certified++;
+            if (nb == 2) {
+                march_ctx mc = {P, Q, {e[0], e[1], e[2]}, a->box, b->box, o->tol};
+                const bpt *en = bp[0].entry ? bp : bp + 1, *ex = bp[0].entry ? bp + 1 : bp;
+                st->branches++;
+                if (!march(out, &mc, en, ex, o->chord, o->max_seg)) {
+                    st->march_failed++;
+                    uncertified(st, a, b);
+                }
+            }
+            continue;
+        }
+        /* Split the larger sub-patch that is above the floor. */
+        int can_a = width(a) > floor_w, can_b = width(b) > floor_w;
+        if (!can_a && !can_b) {
+            st->no_direction += reason == 1;
+            st->ambiguous_roots += reason == 2;
+            st->many_branches += reason == 3;
+            uncertified(st, a, b);
+            continue;
+        }
+        int split_a = can_a && (!can_b || a->size >= b->size);
+        if (split_a)
+            node_split(&TP, ia);
+        else
+            node_split(&TQ, ib);
+        if (sp + 4 > alloc) {
+            alloc *= 2;
+            stack = realloc(stack, (size_t)alloc * sizeof(*stack));
+        }
+        for (int c = 3; c >= 0; c--) {
+            stack[sp][0] = split_a ? TP.nd[ia].child[c] : ia;
+            stack[sp][1] = split_a ? ib : TQ.nd[ib].child[c];
+            sp++;
+        }
+    }
+    free(stack);
+    tree_clear(&TP);
+    tree_clear(&TQ);
+}

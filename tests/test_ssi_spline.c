@@ -1,0 +1,524 @@
+/* test_ssi_spline.c — B-spline/B-spline intersection by the subdivision route (ssi/spline.h):
+ * interval enclosures, a paraboloid against a tilted plane (closed form circle), two crossing
+ * spline cylinders, a loop of radius 1e-3, a touching pair (must be reported, not dropped),
+ * rational input, thread-count independence. */
+#include <math.h>
+#include <stdlib.h>
+#include <time.h>
+
+#include "check.h"
+#include "models/models.h"
+#include "ssi/spline.h"
+#include "ssi/ssi.h"
+
+static double now_s(void)
+{
+    struct timespec ts;
+    timespec_get(&ts, TIME_UTC);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Bicubic graph x = u, y = v, z = c - (u - .5)^2 - (v - .5)^2 on [0,1]^2 (exact control net:
+ * linear and quadratic precision of the Bernstein basis), with the knot 0.5 inserted both ways
+ * (4 Bezier patches). */
+static void paraboloid(cb_nurbs_surface_t s, double c)
+{
+    const double t1[4] = {0, 1.0 / 3, 2.0 / 3, 1}, t2[4] = {0, 0, 1.0 / 3, 1};
+    double pts[48], knots[8] = {0, 0, 0, 0, 1, 1, 1, 1};
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) {
+            /* -(u - .5)^2 = -u^2 + u - .25 in Bernstein form. */
+            double fu = -t2[i] + t1[i] - 0.25, fv = -t2[j] + t1[j] - 0.25;
+            pts[3 * (4 * i + j)] = t1[i];
+            pts[3 * (4 * i + j) + 1] = t1[j];
+            pts[3 * (4 * i + j) + 2] = c + fu + fv;
+        }
+    cb_error err;
+    cb_nurbs_surface_make(s, 3, 3, knots, 8, knots, 8, pts, NULL, 4, 4, &err);
+    cb_nurbs_surface_insert_knot(s, s, CB_DIR_U, 0.5, 1, &err);
+    cb_nurbs_surface_insert_knot(s, s, CB_DIR_V, 0.5, 1, &err);
+}
+
+/* The plane z = z0 + alpha (x - 0.5) as a bicubic patch: a square of side 2 centred at
+ * (0.5, 0.5) in xy, turned by theta, so its parameter lines are not those of the paraboloid. */
+static void tilted_plane(cb_nurbs_surface_t s, double z0, double alpha, double theta)
+{
+    double a[3] = {2 * cos(theta), 2 * sin(theta), 0}, b[3] = {-2 * sin(theta), 2 * cos(theta), 0};
+    a[2] = alpha * a[0];
+    b[2] = alpha * b[0];
+    double o[3] = {0.5 - 0.5 * a[0] - 0.5 * b[0], 0.5 - 0.5 * a[1] - 0.5 * b[1], 0};
+    o[2] = z0 + alpha * (o[0] - 0.5);
+    double pts[48], knots[8] = {0, 0, 0, 0, 1, 1, 1, 1};
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++)
+            for (int q = 0; q < 3; q++)
+                pts[3 * (4 * i + j) + q] = o[q] + a[q] * i / 3.0 + b[q] * j / 3.0;
+    cb_error err;
+    cb_nurbs_surface_make(s, 3, 3, knots, 8, knots, 8, pts, NULL, 4, 4, &err);
+}
+
+/* Polynomial cylinder about an axis: 4 cubic quarter arcs (the usual 0.5523 handle; radius
+ * error 2.7e-4 r) around, one cubic span of length len along. axis 0: along x (circle in yz),
+ * 2: along z (circle in xy); phase turns the seam; off shifts the circle centre. */
+static void spline_cylinder(cb_nurbs_surface_t s, int axis, double r, double len, double phase,
+                            const double off[2])
+{
+    const double k = 0.5522847498;
+    double ku[17] = {0, 0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3, 4, 4, 4, 4};
+    double kv[8] = {0, 0, 0, 0, 1, 1, 1, 1};
+    double pts[13 * 4 * 3];
+    for (int i = 0; i < 13; i++) {
+        int q = i / 3, l = i % 3;
+        double a0 = phase + q * CB_SSI_PI / 2, a1 = a0 + CB_SSI_PI / 2, c[2];
+        if (i == 12) {
+            c[0] = cos(phase);
+            c[1] = sin(phase);
+        } else if (l == 0) {
+            c[0] = cos(a0);
+            c[1] = sin(a0);
+        } else if (l == 1) {
+            c[0] = cos(a0) - k * sin(a0);
+            c[1] = sin(a0) + k * cos(a0);
+        } else {
+            c[0] = cos(a1) + k * sin(a1);
+            c[1] = sin(a1) - k * cos(a1);
+        }
+        for (int j = 0; j < 4; j++) {
+            double w = -len / 2 + len * j / 3.0, p[3];
+            double x = off[0] + r * c[0], y = off[1] + r * c[1];
+            if (axis == 2) {
+                p[0] = x;
+                p[1] = y;
+                p[2] = w;
+            } else {
+                p[0] = w;
+                p[1] = x;
+                p[2] = y;
+            }
+            for (int d = 0; d < 3; d++)
+                pts[3 * (4 * i + j) + d] = p[d];
+        }
+    }
+    cb_error err;
+    cb_nurbs_surface_make(s, 3, 3, ku, 17, kv, 8, pts, NULL, 13, 4, &err);
+}
+
+static double dist_on(const cb_nurbs_surface_t s, const double uv[2], const double X[3])
+{
+    double p[3];
+    cb_nurbs_surface_eval(p, s, uv[0], uv[1]);
+    return sqrt((p[0] - X[0]) * (p[0] - X[0]) + (p[1] - X[1]) * (p[1] - X[1]) +
+                (p[2] - X[2]) * (p[2] - X[2]));
+}
+
+/* Largest distance of a curve point to A and B at its own parameters. */
+static double max_dist(const cb_ssi_result_t r, const cb_nurbs_surface_t a,
+                       const cb_nurbs_surface_t b)
+{
+    double m = 0;
+    for (slong c = 0; c < r->n_curves; c++)
+        for (slong i = 0; i < r->curve[c].n; i++) {
+            const cb_ssi_point *p = r->curve[c].pt + i;
+            m = fmax(m, fmax(dist_on(a, p->uv_a, p->xyz), dist_on(b, p->uv_b, p->xyz)));
+        }
+    return m;
+}
+
+static cb_status run(cb_ssi_result_t r, const cb_nurbs_surface_t a, const cb_nurbs_surface_t b,
+                     const cb_ssi_opts *o, const char *name)
+{
+    cb_ssi_surface A, B;
+    cb_ssi_surface_set_nurbs(&A, a);
+    cb_ssi_surface_set_nurbs(&B, b);
+    cb_error err;
+    cb_error_clear(&err);
+    cb_ssi_result_init(r);
+    double t0 = now_s();
+    cb_status st = cb_ssi_surfaces(r, &A, &B, -1, -1, o, &err);
+    CHECK(st == CB_OK, "%s: %s", name, err.msg);
+    slong npts = 0;
+    for (slong c = 0; c < r->n_curves; c++)
+        npts += r->curve[c].n;
+    printf("%-30s %.3f s: curves %ld (%ld points), pairs %ld culled %ld subdivided %ld "
+           "certified %ld failed %ld, sub-pairs %ld, max dist %.1e (tol %.1e)\n",
+           name, now_s() - t0, (long)r->n_curves, (long)npts, (long)r->pairs_total,
+           (long)r->pairs_culled, (long)r->pairs_subdivided, (long)r->pairs_certified,
+           (long)r->n_failed, (long)r->subpairs, max_dist(r, a, b), r->tol);
+    return st;
+}
+
+/* Interval evaluation must enclose the point evaluation anywhere in the box. */
+static void test_enclosure(void)
+{
+    cb_nurbs_surface_t s;
+    cb_nurbs_surface_init(s);
+    check_rng rng = {7};
+    double pts[48], knots[8] = {0, 0, 0, 0, 1, 1, 1, 1};
+    for (int k = 0; k < 48; k++)
+        pts[k] = check_rng_uniform(&rng, -1, 1);
+    cb_error err;
+    cb_nurbs_surface_make(s, 3, 3, knots, 8, knots, 8, pts, NULL, 4, 4, &err);
+    _cb_ssi_bez b;
+    CHECK(_cb_ssi_bez_set(&b, s, &err) == CB_OK, "bez_set: %s", err.msg);
+    int bad = 0;
+    for (int trial = 0; trial < 2000; trial++) {
+        double w = ldexp(1, -check_rng_int(&rng, 0, 30));
+        double u0 = check_rng_uniform(&rng, 0, 1 - w), v0 = check_rng_uniform(&rng, 0, 1 - w);
+        _cb_iv U = {u0, u0 + w}, V = {v0, v0 + w}, X[3], Xu[3], Xv[3];
+        _cb_ssi_bez_eval_iv(X, Xu, Xv, &b, U, V);
+        double u = u0 + w * check_rng_uniform(&rng, 0, 1),
+               v = v0 + w * check_rng_uniform(&rng, 0, 1);
+        double p[3], pu[3], pv[3];
+        _cb_ssi_bez_eval(p, pu, pv, &b, u, v);
+        for (int q = 0; q < 3; q++)
+            bad += !(p[q] >= X[q].lo - 1e-15 * (1 + fabs(p[q])) &&
+                     p[q] <= X[q].hi + 1e-15 * (1 + fabs(p[q]))) ||
+                   !(pu[q] >= Xu[q].lo - 1e-14 && pu[q] <= Xu[q].hi + 1e-14) ||
+                   !(pv[q] >= Xv[q].lo - 1e-14 && pv[q] <= Xv[q].hi + 1e-14);
+        double d[6][3];
+        cb_nurbs_surface_eval_derivs(d, s, u, v);
+        for (int q = 0; q < 3; q++)
+            bad += fabs(d[0][q] - p[q]) > 1e-14 || fabs(d[1][q] - pu[q]) > 1e-12 ||
+                   fabs(d[2][q] - pv[q]) > 1e-12;
+    }
+    CHECK(bad == 0, "%d enclosure or evaluation failures", bad);
+    /* A rational patch is refused, with the reason. */
+    double wts[16];
+    for (int k = 0; k < 16; k++)
+        wts[k] = 1 + (k == 5);
+    cb_nurbs_surface_t rs;
+    cb_nurbs_surface_init(rs);
+    cb_nurbs_surface_make(rs, 3, 3, knots, 8, knots, 8, pts, wts, 4, 4, &err);
+    _cb_ssi_bez rb;
+    CHECK(_cb_ssi_bez_set(&rb, rs, &err) == CB_ERR_UNSUPPORTED && strstr(err.msg, "rational"),
+          "rational patch: %s", err.msg);
+    _cb_ssi_bez_clear(&b);
+    cb_nurbs_surface_clear(s);
+    cb_nurbs_surface_clear(rs);
+}
+
+/* Circle (x - .5 + alpha/2)^2 + (y - .5)^2 = R^2 where the paraboloid z = c - (x-.5)^2 -
+ * (y-.5)^2 meets z = z0 + alpha (x - .5), c - z0 = R^2 - alpha^2 / 4. Returns the largest
+ * deviation of the curve points from that circle (in xy and in z on the plane). */
+static double circle_error(const cb_ssi_result_t r, double R, double alpha, double z0)
+{
+    double m = 0;
+    for (slong c = 0; c < r->n_curves; c++)
+        for (slong i = 0; i < r->curve[c].n; i++) {
+            const double *x = r->curve[c].pt[i].xyz;
+            m = fmax(m, fabs(hypot(x[0] - 0.5 + alpha / 2, x[1] - 0.5) - R));
+            m = fmax(m, fabs(x[2] - z0 - alpha * (x[0] - 0.5)));
+        }
+    return m;
+}
+
+static int same_result(const cb_ssi_result_t a, const cb_ssi_result_t b)
+{
+    int same =
+        a->n_curves == b->n_curves && a->n_points == b->n_points && a->n_failed == b->n_failed;
+    for (slong c = 0; same && c < a->n_curves; c++) {
+        same = a->curve[c].n == b->curve[c].n && a->curve[c].closed == b->curve[c].closed;
+        for (slong i = 0; same && i < a->curve[c].n; i++)
+            same = !memcmp(a->curve[c].pt + i, b->curve[c].pt + i, sizeof(cb_ssi_point));
+    }
+    return same;
+}
+
+static void test_paraboloid_plane(void)
+{
+    const double R = 0.3, alpha = 0.2, z0 = -(R * R - alpha * alpha / 4);
+    cb_nurbs_surface_t p, q;
+    cb_nurbs_surface_init(p);
+    cb_nurbs_surface_init(q);
+    paraboloid(p, 0);
+    tilted_plane(q, z0, alpha, 0.3);
+    cb_ssi_opts o;
+    cb_ssi_opts_default(&o);
+    o.tol = 1e-7;
+    o.threads = 1;
+    cb_ssi_result_t r1, r2;
+    run(r1, p, q, &o, "paraboloid x plane, 1 thr");
+    CHECK(r1->status == CB_OK && r1->n_failed == 0, "%ld pairs not certified: %s",
+          (long)r1->n_failed, r1->n_failed ? r1->failed[0].msg : "");
+    CHECK(r1->pairs_subdivided == 4, "pairs by subdivision %ld", (long)r1->pairs_subdivided);
+    CHECK(r1->n_curves == 1 && r1->n_points == 0, "curves %ld points %ld", (long)r1->n_curves,
+          (long)r1->n_points);
+    if (r1->n_curves == 1)
+        CHECK(r1->curve[0].closed && r1->curve[0].n > 20, "closed %d, %ld points",
+              r1->curve[0].closed, (long)r1->curve[0].n);
+    CHECK(max_dist(r1, p, q) <= 1e-7, "distance to the surfaces %g", max_dist(r1, p, q));
+    CHECK(circle_error(r1, R, alpha, z0) < 1e-6, "circle error %g", circle_error(r1, R, alpha, z0));
+    /* The polyline goes around once: its xy angles about the centre cover the circle. */
+    if (r1->n_curves == 1) {
+        double turn = 0;
+        const cb_ssi_curve *c = r1->curve;
+        for (slong i = 0; i + 1 < c->n; i++) {
+            double a0 = atan2(c->pt[i].xyz[1] - 0.5, c->pt[i].xyz[0] - 0.5 + alpha / 2);
+            double a1 = atan2(c->pt[i + 1].xyz[1] - 0.5, c->pt[i + 1].xyz[0] - 0.5 + alpha / 2);
+            double d = a1 - a0;
+            d -= 2 * CB_SSI_PI * nearbyint(d / (2 * CB_SSI_PI));
+            turn += d;
+        }
+        CHECK(fabs(fabs(turn) - 2 * CB_SSI_PI) < 1e-9, "winding %g", turn / (2 * CB_SSI_PI));
+    }
+    o.threads = 2;
+    run(r2, p, q, &o, "paraboloid x plane, 2 thr");
+    CHECK(same_result(r1, r2), "1 and 2 threads differ");
+    /* Swapping the surfaces swaps the parameters, not the curve count. */
+    cb_ssi_result_t r3;
+    o.threads = 1;
+    run(r3, q, p, &o, "plane x paraboloid");
+    CHECK(r3->n_curves == 1 && r3->n_failed == 0 && circle_error(r3, R, alpha, z0) < 1e-6,
+          "swapped: curves %ld failed %ld", (long)r3->n_curves, (long)r3->n_failed);
+    CHECK(max_dist(r3, q, p) <= 1e-7, "swapped distance %g", max_dist(r3, q, p));
+    cb_ssi_result_clear(r1);
+    cb_ssi_result_clear(r2);
+    cb_ssi_result_clear(r3);
+    cb_nurbs_surface_clear(p);
+    cb_nurbs_surface_clear(q);
+}
+
+static void test_cylinders(void)
+{
+    const double R1 = 1, R2 = 0.6, off2[2] = {0.1, 0}, off1[2] = {0, 0};
+    cb_nurbs_surface_t a, b;
+    cb_nurbs_surface_init(a);
+    cb_nurbs_surface_init(b);
+    spline_cylinder(a, 2, R1, 4, 0.3, off1);
+    spline_cylinder(b, 0, R2, 4, 0.7, off2);
+    cb_ssi_opts o;
+    cb_ssi_opts_default(&o);
+    o.threads = 1;
+    cb_ssi_result_t r1, r2;
+    run(r1, a, b, &o, "cylinders r 1 x 0.6, 1 thr");
+    CHECK(r1->status == CB_OK && r1->n_failed == 0, "%ld pairs not certified: %s",
+          (long)r1->n_failed, r1->n_failed ? r1->failed[0].msg : "");
+    CHECK(r1->n_curves == 2 && r1->n_points == 0, "curves %ld points %ld", (long)r1->n_curves,
+          (long)r1->n_points);
+    double side[2] = {0, 0};
+    for (slong c = 0; c < r1->n_curves && c < 2; c++) {
+        CHECK(r1->curve[c].closed, "curve %ld not closed", (long)c);
+        side[c] = r1->curve[c].pt[0].xyz[0];
+    }
+    /* One loop on each side of the large cylinder's axis (x > 0 and x < 0). */
+    CHECK(side[0] * side[1] < 0, "loops on x = %g and %g", side[0], side[1]);
+    CHECK(max_dist(r1, a, b) <= r1->tol, "distance %g > tol %g", max_dist(r1, a, b), r1->tol);
+    /* Against the true cylinders: the spline ones deviate by up to 2.7e-4 r. */
+    double dev = 0;
+    for (slong c = 0; c < r1->n_curves; c++)
+        for (slong i = 0; i < r1->curve[c].n; i++) {
+            const double *x = r1->curve[c].pt[i].xyz;
+            dev = fmax(dev, fabs(hypot(x[0], x[1]) - R1));
+            dev = fmax(dev, fabs(hypot(x[1] - off2[0], x[2] - off2[1]) - R2));
+        }
+    CHECK(dev < 3e-4, "deviation from the round cylinders %g", dev);
+    o.threads = 2;
+    run(r2, a, b, &o, "cylinders r 1 x 0.6, 2 thr");
+    CHECK(same_result(r1, r2), "1 and 2 threads differ");
+    cb_ssi_result_clear(r1);
+    cb_ssi_result_clear(r2);
+    cb_nurbs_surface_clear(a);
+    cb_nurbs_surface_clear(b);
+}
+
+/* A loop of radius 1e-3: the normals differ by ~2e-3 there, so it needs sub-patches of about
+ * that size; it must come out as one closed curve, certified. */
+static void test_small_loop(void)
+{
+    const double R = 1e-3, alpha = 0.2, z0 = -(R * R - alpha * alpha / 4);
+    cb_nurbs_surface_t p, q;
+    cb_nurbs_surface_init(p);
+    cb_nurbs_surface_init(q);
+    paraboloid(p, 0);
+    tilted_plane(q, z0, alpha, 0.3);
+    cb_ssi_opts o;
+    cb_ssi_opts_default(&o);
+    o.tol = 1e-9;
+    o.chord = 1e-5;
+    cb_ssi_result_t r;
+    run(r, p, q, &o, "small loop r = 1e-3");
+    CHECK(r->status == CB_OK && r->n_failed == 0, "%ld pairs not certified: %s", (long)r->n_failed,
+          r->n_failed ? r->failed[0].msg : "");
+    CHECK(r->n_curves == 1, "curves %ld", (long)r->n_curves);
+    if (r->n_curves == 1)
+        CHECK(r->curve[0].closed && r->curve[0].n >= 8, "closed %d, %ld points", r->curve[0].closed,
+              (long)r->curve[0].n);
+    CHECK(circle_error(r, R, alpha, z0) < 1e-8, "circle error %g", circle_error(r, R, alpha, z0));
+    CHECK(max_dist(r, p, q) <= 1e-9, "distance %g", max_dist(r, p, q));
+    cb_ssi_result_clear(r);
+
+    /* Touching at one point (R = 0): no direction exists near the contact, so that region
+     * must be reported with a box around (x, y) = (0.4, 0.5), never dropped. */
+    cb_nurbs_surface_t q0;
+    cb_nurbs_surface_init(q0);
+    tilted_plane(q0, alpha * alpha / 4, alpha, 0.3);
+    o.spline_max_depth = 12;
+    run(r, p, q0, &o, "touching at a point");
+    CHECK(r->status != CB_OK && r->n_failed >= 1, "touch not reported: %ld failures",
+          (long)r->n_failed);
+    int boxed = 0;
+    for (slong k = 0; k < r->n_failed; k++) {
+        const cb_ssi_failure *f = r->failed + k;
+        boxed |= f->has_box && f->box_a[0] <= 0.4 && f->box_a[1] >= 0.4 && f->box_a[2] <= 0.5 &&
+                 f->box_a[3] >= 0.5 && f->box_a[1] - f->box_a[0] < 0.01;
+    }
+    CHECK(boxed, "no small failure box around the contact (%ld failures: %s)", (long)r->n_failed,
+          r->n_failed ? r->failed[0].msg : "");
+    cb_ssi_result_clear(r);
+    cb_nurbs_surface_clear(p);
+    cb_nurbs_surface_clear(q);
+    cb_nurbs_surface_clear(q0);
+}
+
+/* A patch against itself: no direction exists anywhere; the whole patch must be reported
+ * (within the work budget), with the failure box covering it. */
+static void test_coincident(void)
+{
+    cb_nurbs_surface_t p;
+    cb_nurbs_surface_init(p);
+    paraboloid(p, 0);
+    cb_ssi_opts o;
+    cb_ssi_opts_default(&o);
+    cb_ssi_result_t r;
+    run(r, p, p, &o, "patch x itself");
+    CHECK(r->n_failed >= 4 && r->status == CB_ERR_UNSUPPORTED, "failures %ld status %d",
+          (long)r->n_failed, r->status);
+    double lo[2] = {1, 1}, hi[2] = {0, 0};
+    for (slong k = 0; k < r->n_failed; k++) {
+        const cb_ssi_failure *f = r->failed + k;
+        if (!f->has_box)
+            continue;
+        for (int d = 0; d < 2; d++) {
+            lo[d] = fmin(lo[d], f->box_a[2 * d]);
+            hi[d] = fmax(hi[d], f->box_a[2 * d + 1]);
+        }
+    }
+    CHECK(lo[0] == 0 && lo[1] == 0 && hi[0] == 1 && hi[1] == 1,
+          "failure boxes cover [%g, %g] x [%g, %g], not the patch", lo[0], hi[0], lo[1], hi[1]);
+    cb_ssi_result_clear(r);
+    cb_nurbs_surface_clear(p);
+}
+
+/* Rational spline pairs above the phi limit are listed as unsupported, with the reason. */
+static void test_bad_input(void)
+{
+    double pts[48], wts[16], knots[8] = {0, 0, 0, 0, 1, 1, 1, 1};
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) {
+            pts[3 * (4 * i + j)] = i / 3.0;
+            pts[3 * (4 * i + j) + 1] = j / 3.0;
+            pts[3 * (4 * i + j) + 2] = (i == 1 && j == 2) ? 0.5 : 0;
+            wts[4 * i + j] = (i == 1 && j == 1) ? 2 : 1;
+        }
+    cb_nurbs_surface_t a, b;
+    cb_nurbs_surface_init(a);
+    cb_nurbs_surface_init(b);
+    cb_error err;
+    cb_nurbs_surface_make(a, 3, 3, knots, 8, knots, 8, pts, wts, 4, 4, &err);
+    tilted_plane(b, 0.05, 0.1, 0.2);
+    cb_ssi_opts o;
+    cb_ssi_opts_default(&o);
+    cb_ssi_result_t r;
+    run(r, a, b, &o, "rational x bicubic");
+    CHECK(r->n_failed == 1 && r->status == CB_ERR_UNSUPPORTED &&
+              strstr(r->failed[0].msg, "rational"),
+          "failures %ld status %d msg %s", (long)r->n_failed, r->status,
+          r->n_failed ? r->failed[0].msg : "");
+    cb_ssi_result_clear(r);
+    cb_nurbs_surface_clear(a);
+    cb_nurbs_surface_clear(b);
+}
+
+/* The hummingbird against a posed copy (paper Fig. 12): every pair certified, every curve point
+ * on both faces, every curve end continued by another curve (two closed surfaces meet in
+ * closed curves; face pairs cut them at face boundaries), 1 and 2 threads identical. */
+static void test_hummingbird(void)
+{
+    cb_hummingbird_params pa, pb;
+    cb_hummingbird_params_default(&pa);
+    cb_hummingbird_params_default(&pb);
+    pb.axis[0] = 0.3;
+    pb.axis[1] = 1;
+    pb.axis[2] = 0.2;
+    pb.angle_deg = 25;
+    pb.translate[0] = 0.35;
+    pb.translate[1] = 0.25;
+    pb.translate[2] = 0.12;
+    cb_topo_body *a = NULL, *b = NULL;
+    cb_error err;
+    cb_error_clear(&err);
+    CHECK(cb_model_hummingbird(&a, &pa, &err) == CB_OK, "%s", err.msg);
+    CHECK(cb_model_hummingbird(&b, &pb, &err) == CB_OK, "%s", err.msg);
+    if (!a || !b)
+        return;
+    cb_ssi_result_t r[2];
+    for (int k = 0; k < 2; k++) {
+        cb_ssi_opts o;
+        cb_ssi_opts_default(&o);
+        o.threads = k + 1;
+        cb_ssi_result_init(r[k]);
+        double t0 = now_s();
+        CHECK(cb_ssi_bodies(r[k], a, b, &o, &err) == CB_OK, "%s", err.msg);
+        printf("hummingbird x posed copy, %d thr: %.2f s\n", k + 1, now_s() - t0);
+    }
+    const cb_ssi_result_struct *R = r[0];
+    CHECK(R->status == CB_OK && R->n_failed == 0, "%ld pairs not certified: %s", (long)R->n_failed,
+          R->n_failed ? R->failed[0].msg : "");
+    char *hit = calloc((size_t)a->n_faces * (size_t)b->n_faces, 1);
+    long pairs_hit = 0, lonely = 0, npts = 0;
+    double dmax = 0;
+    for (slong c = 0; c < R->n_curves; c++) {
+        const cb_ssi_curve *cv = R->curve + c;
+        char *h = hit + (size_t)cv->face_a * (size_t)b->n_faces + (size_t)cv->face_b;
+        pairs_hit += !*h;
+        *h = 1;
+        npts += (long)cv->n;
+        for (slong i = 0; i < cv->n; i++) {
+            const cb_ssi_point *p = cv->pt + i;
+            dmax = fmax(dmax,
+                        dist_on(a->surfaces[a->faces[cv->face_a].surface].nurbs, p->uv_a, p->xyz));
+            dmax = fmax(dmax,
+                        dist_on(b->surfaces[b->faces[cv->face_b].surface].nurbs, p->uv_b, p->xyz));
+        }
+        if (cv->closed)
+            continue;
+        for (int e = 0; e < 2; e++) {
+            const double *X = cv->pt[e ? cv->n - 1 : 0].xyz;
+            int found = 0;
+            for (slong d = 0; d < R->n_curves && !found; d++)
+                for (int f = 0; f < 2 && !found; f++) {
+                    const cb_ssi_curve *dv = R->curve + d;
+                    const double *Y = dv->pt[f ? dv->n - 1 : 0].xyz;
+                    found = !(d == c && f == e) &&
+                            fabs(X[0] - Y[0]) + fabs(X[1] - Y[1]) + fabs(X[2] - Y[2]) <= 2 * R->tol;
+                }
+            lonely += !found;
+        }
+    }
+    printf("hummingbird: %ld face pairs with a curve, %ld curves, %ld points, %ld Bezier pairs "
+           "by subdivision, %ld sub-pairs, max dist %.1e (tol %.1e)\n",
+           pairs_hit, (long)R->n_curves, npts, (long)R->pairs_subdivided, (long)R->subpairs, dmax,
+           R->tol);
+    CHECK(pairs_hit > 0 && R->n_curves >= pairs_hit, "face pairs %ld, curves %ld", pairs_hit,
+          (long)R->n_curves);
+    CHECK(dmax <= R->tol, "curve point %g from its face (tol %g)", dmax, R->tol);
+    CHECK(lonely == 0, "%ld curve ends without a continuation", lonely);
+    CHECK(same_result(r[0], r[1]), "1 and 2 threads differ");
+    free(hit);
+    cb_ssi_result_clear(r[0]);
+    cb_ssi_result_clear(r[1]);
+    cb_topo_body_free(a);
+    cb_topo_body_free(b);
+}
+
+int main(void)
+{
+    test_enclosure();
+    test_paraboloid_plane();
+    test_cylinders();
+    test_small_loop();
+    test_bad_input();
+    test_coincident();
+    test_hummingbird();
+    return check_report("test_ssi_spline");
+}
