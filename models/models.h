@@ -56,4 +56,143 @@ cb_status cb_model_hummingbird(cb_topo_body **out, const cb_hummingbird_params *
 cb_status cb_model_hummingbird_margin(double *margin, const cb_topo_body *b,
                                       const cb_hummingbird_params *p, int n, cb_error *err);
 
+/* ---------------------------------------------------------------- Cardan joint ------------- */
+
+/* The parts of a Cardan (universal) joint, as in the paper's Fig. 13: the cross (spider) and
+ * the yoke (fork), each one closed solid of planes and circular cylinders, exactly
+ * constructible without Booleans, so that their volumes and those of the named Boolean
+ * scenarios below have closed forms (models/README.md derives them).
+ *
+ * Cross, in its own frame: the cube [-a, a]^3 with four arms along +x, -x, +y, -y, each a
+ * solid cylinder of radius r from the cube face (distance a from the centre) to a planar disc
+ * cap at distance L. 14 faces (6 planes of the cube, those at x = +-a and y = +-a with one
+ * circular inner loop each; 4 cylinders; 4 discs), 24 edges (12 lines of the cube, per arm two
+ * circles and the seam line), 16 vertices. The seam of the arm along d lies on its line
+ * towards z x d (its left side seen from +z), away from the scenarios' tangent contacts.
+ * Volume 8 a^3 + 4 pi r^2 (L - a).
+ *
+ * Yoke, in its own frame: the U profile in the xz plane (base [-B, B] x [0, t], arms
+ * [-B, -g] x [t, H] and [g, B] x [t, H]), its two inner corners (+-g, t) rounded by concave
+ * quarter-circle fillets of radius f (f = 0: sharp), extruded over y in [-w/2, w/2]; one bore
+ * of radius rb along the x axis at height hb through each arm (x in [-B, -g] and [g, B]); a
+ * shaft, the solid cylinder of radius rs about the -z axis from z = 0 to z = -ls ending in a
+ * disc. With fillets: 16 faces (8 planar sides of the extrusion, 4 of them with a bore circle
+ * as inner loop and the bottom one with the shaft circle; 2 quarter-cylinder fillets, facing
+ * their axis, tangent to the faces beside them; 2 U-shaped end faces; 2 bore cylinders, facing
+ * the axis; the shaft cylinder and its disc), 39 edges (20 lines and 4 quarter circles of the
+ * extrusion, 6 lines along y; per bore and for the shaft two circles and a seam), 26 vertices,
+ * 21 loops. Without: 14 faces, 33 edges, 22 vertices, 19 loops. Genus 2 (the bores). Bore
+ * seams lie on their bottom (-z) line, the shaft's on its +x line. Volume
+ * w (2 B t + 2 (B - g)(H - t) + 2 (1 - pi/4) f^2) + pi rs^2 ls - 2 pi rb^2 (B - g).
+ *
+ * Pose, as the hummingbird's: p -> R(axis, angle) p + translate, applied to the part built in
+ * its own frame. as_nurbs = 0 keeps every face analytic (planes, cylinders); 1 writes every
+ * face as an exact rational B-spline: planes as bilinear patches over the face's bounding
+ * rectangle, cylinders as degree (2, 1) patches whose circle is four (a fillet: one) rational
+ * quadratic quarter arcs with control points (r, 0), (r, r), (0, r), (-r, r), ... and weights
+ * 1, 1, 2, 1, 1, 1, 2, 1, 1 (exact, unlike sqrt(2)/2: in the part's own frame every control
+ * point and weight is a dyadic rational when the sizes are), knots {0,0,0,1,1,2,2,3,3,4,4,4}
+ * ({0,0,0,1,1,1} for a fillet) in u and the axial length in v. Edge curves are lines and
+ * circles either way. Every coedge has a pcurve (cb_topo_compute_pcurves); the body is indexed
+ * and passes cb_topo_validate at its tolerance with no problem. */
+
+typedef enum { CB_CARDAN_CROSS, CB_CARDAN_YOKE } cb_cardan_kind;
+
+typedef struct {
+    double half_size;  /* a > 0: the central cube [-a, a]^3 */
+    double arm_radius; /* r, 0 < r < a */
+    double arm_reach;  /* L > a: distance of the arm caps from the centre */
+} cb_cross_shape;
+
+typedef struct {
+    double half_span;     /* B > 0: the profile spans x in [-B, B] */
+    double gap;           /* g, 0 < g < B: the arms' inner faces lie at x = +-g */
+    double base_height;   /* t > 0: the base spans z in [0, t] */
+    double height;        /* H > t: the arms end at z = H */
+    double width;         /* w > 0: the extrusion spans y in [-w/2, w/2] */
+    double bore_radius;   /* rb, 0 < rb < w/2 */
+    double bore_height;   /* hb: the bore axis, with t + f < hb - rb and hb + rb < H */
+    double shaft_radius;  /* rs, 0 < rs < min(B, w/2) */
+    double shaft_length;  /* ls > 0 */
+    double fillet_radius; /* f, 0 <= f < g and t + f < H; 0: no fillets */
+} cb_yoke_shape;
+
+typedef struct {
+    double axis[3];   /* rotation axis, any nonzero length (ignored when angle_deg = 0) */
+    double angle_deg; /* right-handed about axis, through the origin */
+    double translate[3];
+} cb_model_pose;
+
+typedef struct {
+    cb_cardan_kind kind;
+    cb_cross_shape cross; /* used when kind is CB_CARDAN_CROSS */
+    cb_yoke_shape yoke;   /* used when kind is CB_CARDAN_YOKE */
+    cb_model_pose pose;
+    int as_nurbs;
+    double tol; /* body and edge tolerance; <= 0 selects CB_CARDAN_REL_TOL times the part's
+                   largest extent */
+} cb_cardan_params;
+
+#define CB_CARDAN_REL_TOL 1e-9
+
+/* The shapes the scenarios use, no rotation, no translation, analytic faces, default
+ * tolerance. Cross: a = 1, r = 3/8, L = 3. Yoke: B = 5/2, g = 3/2, t = 1, H = 4, w = 4,
+ * rb = 3/8 (the cross arms fit the bores), hb = 3, rs = 1, ls = 2, f = 1/2. */
+void cb_cardan_params_default(cb_cardan_params *p, cb_cardan_kind kind);
+
+/* Checks the shape ranges above, the pose (finite, nonzero axis when rotating) and tol
+ * (finite); CB_ERR_INVALID naming the parameter otherwise. */
+cb_status cb_cardan_params_check(const cb_cardan_params *p, cb_error *err);
+
+/* Builds the part. Fails with CB_ERR_INVALID as cb_cardan_params_check, CB_ERR_NOMEM,
+ * CB_ERR_NUMERIC if the pcurves cannot be fitted; *out is NULL on failure. */
+cb_status cb_model_cardan(cb_topo_body **out, const cb_cardan_params *p, cb_error *err);
+
+/* The part's volume by its closed form (pose-independent). CB_ERR_INVALID as _check. */
+cb_status cb_model_cardan_volume(double *volume, const cb_cardan_params *p, cb_error *err);
+
+/* A named Boolean scenario: two posed parts A and B and what makes the pair hard. */
+typedef struct {
+    const char *name;
+    const char *contact;     /* one sentence: the contacts and overlaps of A and B */
+    const char *closed_form; /* the formula of V(A n B) (derived in models/README.md) */
+    cb_cardan_params a, b;
+} cb_cardan_scenario;
+
+/* Volumes of A, B, A u B, A n B, A - B and B - A. */
+typedef struct {
+    double a, b, a_union_b, a_inter_b, a_minus_b, b_minus_a;
+} cb_cardan_volumes;
+
+/* Number of scenarios; they are numbered 0 .. count - 1. */
+int cb_cardan_scenario_count(void);
+
+/* Scenario k (analytic faces; set a.as_nurbs, b.as_nurbs to taste), or by name (NULL name or
+ * an unknown one: CB_ERR_INVALID listing the names). The scenarios, with the default shapes:
+ *   cross_in_yoke      the yoke, and the cross centred on the bore axis (0, 0, hb) with its x
+ *                      arms through both bores: coincident cylinders, A n B empty;
+ *   cross_on_base      the cross at (0, 3.5, t + r), its -y arm lying on the base's top plane
+ *                      between the yoke arms: a cylinder tangent to a plane along a line;
+ *   cross_into_base    the same cross lowered by 1/4: the arm cuts into the base;
+ *   cross_through_yoke the cross on the bore axis turned 60 degrees about x, its -y arm
+ *                      entering the base obliquely and its x arms still coaxial in the bores;
+ *   two_crosses        two crosses at the origin, B turned 45 degrees about z;
+ *   crosses_stacked    B raised by 2 r along z: the x and y arms touch along lines (parallel
+ *                      cylinders tangent), the +-x and +-y cube faces overlap coplanar. */
+cb_status cb_cardan_scenario_get(cb_cardan_scenario *s, int k, cb_error *err);
+cb_status cb_cardan_scenario_find(cb_cardan_scenario *s, const char *name, cb_error *err);
+
+/* The volumes of a scenario from closed forms in its parts' shape parameters, not from any
+ * Boolean or mesh (derivations in models/README.md); valid only for the shapes the scenario
+ * was derived for: CB_ERR_INVALID when s's parts differ from cb_cardan_scenario_get's in
+ * anything but as_nurbs and tol (or s->name is unknown). */
+cb_status cb_cardan_scenario_volumes(cb_cardan_volumes *v, const cb_cardan_scenario *s,
+                                     cb_error *err);
+
+/* The reference table models/reference.json holds, as JSON text: the default parts with their
+ * counts and volumes, then every scenario with its poses, closed form and the six volumes of
+ * cb_cardan_scenario_volumes, to 17 significant digits. *out is a NUL-terminated string the
+ * caller releases with free(); CB_ERR_NOMEM leaves it NULL. */
+cb_status cb_cardan_reference_json(char **out, cb_error *err);
+
 #endif
