@@ -355,8 +355,48 @@ typedef struct {
     int in;
 } sample;
 
+/* (u, v) of the point of the spline P nearest X, by Gauss-Newton on P(u, v) - X from uv
+ * (at most 30 steps, each kept only if the distance drops). Q's parameters are not touched:
+ * the joint refinement that follows then needs only a round-off correction, so it cannot slide
+ * the point along the curve (two traced edges meeting at a vertex keep a common end). */
+static void p_project(double uv[2], const _cb_ssi_pair_geom *g, const double X[3])
+{
+    double P[3], Pu[3], Pv[3];
+    patch_eval(P, Pu, Pv, g->p, uv[0], uv[1]);
+    double d2 = (P[0] - X[0]) * (P[0] - X[0]) + (P[1] - X[1]) * (P[1] - X[1]) +
+                (P[2] - X[2]) * (P[2] - X[2]);
+    for (int it = 0; it < 30 && d2 > 0; it++) {
+        double r[3] = {X[0] - P[0], X[1] - P[1], X[2] - P[2]};
+        double a = 0, b = 0, c = 0, ru = 0, rv = 0;
+        for (int k = 0; k < 3; k++) {
+            a += Pu[k] * Pu[k];
+            b += Pu[k] * Pv[k];
+            c += Pv[k] * Pv[k];
+            ru += Pu[k] * r[k];
+            rv += Pv[k] * r[k];
+        }
+        double det = a * c - b * b;
+        if (!(fabs(det) > 0) || !isfinite(det))
+            break;
+        double nu = uv[0] + (c * ru - b * rv) / det, nv = uv[1] + (a * rv - b * ru) / det;
+        double Q[3], Qu[3], Qv[3];
+        patch_eval(Q, Qu, Qv, g->p, nu, nv);
+        double e2 = (Q[0] - X[0]) * (Q[0] - X[0]) + (Q[1] - X[1]) * (Q[1] - X[1]) +
+                    (Q[2] - X[2]) * (Q[2] - X[2]);
+        if (!(e2 < d2))
+            break;
+        uv[0] = nu;
+        uv[1] = nv;
+        d2 = e2;
+        memcpy(P, Q, sizeof P);
+        memcpy(Pu, Qu, sizeof Pu);
+        memcpy(Pv, Qv, sizeof Pv);
+    }
+}
+
 /* Initial (u, v) on P of the point X: analytic closed form, or Dixon inversion (an inside
- * preimage preferred), or for a planar patch the nearest point of a coarse grid. */
+ * preimage preferred), or for a planar patch the nearest point of a coarse grid projected
+ * onto the patch. */
 static void p_start(double uv[2], const _cb_ssi_pair_geom *g, const double X[3])
 {
     if (g->p_analytic) {
@@ -398,6 +438,7 @@ static void p_start(double uv[2], const _cb_ssi_pair_geom *g, const double X[3])
                 uv[1] = j / 16.0;
             }
         }
+    p_project(uv, g, X);
 }
 
 /* The section 4.4 decision for a spline P: X lies on the trimmed patch iff the Dixon
@@ -443,6 +484,97 @@ static void emit(_cb_ssi_piece_set *out, const sample *S, slong a, slong b, cons
     }
 }
 
+/* The straight segment between the P parameters ua and ub passes within margin times the box
+ * size of P's box (Liang-Barsky over the non-periodic directions; an angular direction is not
+ * tested). Then the two outside samples may hide an inside piece between them. */
+static int seg_near_box(const _cb_ssi_pair_geom *g, const double ua[2], const double ub[2],
+                        double margin)
+{
+    double t0 = 0, t1 = 1;
+    for (int i = 0; i < 2; i++) {
+        double lo = g->p_analytic ? g->an_range[2 * i] : 0;
+        double hi = g->p_analytic ? g->an_range[2 * i + 1] : 1;
+        if (g->p_analytic && g->an_period[i] > 0)
+            continue;
+        if (!isfinite(lo) || !isfinite(hi))
+            continue;
+        double m = margin * (hi - lo), d = ub[i] - ua[i];
+        lo -= m;
+        hi += m;
+        if (d == 0) {
+            if (ua[i] < lo || ua[i] > hi)
+                return 0;
+            continue;
+        }
+        double a = (lo - ua[i]) / d, b = (hi - ua[i]) / d;
+        if (a > b) {
+            double t = a;
+            a = b;
+            b = t;
+        }
+        t0 = fmax(t0, a);
+        t1 = fmin(t1, b);
+        if (t0 > t1)
+            return 0;
+    }
+    return 1;
+}
+
+/* Largest P-parameter step between consecutive samples that the densification leaves, as a
+ * fraction of P's box size. */
+#define DENSE_STEP 0x1p-6
+
+/* The sample of the curve between a and b: the midpoint of their Q parameters refined onto
+ * both surfaces (the traced chord is close to the curve, so it lands on the same branch). */
+static void mid_sample(sample *m, const sample *a, const sample *b, const _cb_ssi_pair_geom *g)
+{
+    _cb_ssi_pq pq;
+    for (int i = 0; i < 2; i++) {
+        pq.st[i] = 0.5 * (a->pq.st[i] + b->pq.st[i]);
+        pq.uv[i] = 0.5 * (a->pq.uv[i] + b->pq.uv[i]);
+    }
+    pq.fixed = a->pq.fixed & b->pq.fixed & 12u;
+    double X[3];
+    patch_eval(X, NULL, NULL, g->q, pq.st[0], pq.st[1]);
+    if (g->p_analytic)
+        analytic_invert(pq.uv, g, X, a->pq.uv);
+    else
+        p_project(pq.uv, g, X);
+    m->gap = refine(&pq, m->X, g);
+    m->pq = pq;
+    m->in = inside_p(g, &pq, m->gap);
+}
+
+/* Appends to D the samples strictly between a and b needed so that no inside piece hides
+ * between two outside samples: while both are outside and their P-parameter segment comes
+ * within a quarter of P's box size of the box and is longer than DENSE_STEP of it, or crosses
+ * the box itself and is longer than 1e-7 of it, the midpoint is inserted (depth <= 40). */
+static void densify(sample **D, slong *nd, slong *alloc, const sample *a, const sample *b,
+                    const _cb_ssi_pair_geom *g, int depth)
+{
+    if (depth >= 40 || a->in || b->in || !seg_near_box(g, a->pq.uv, b->pq.uv, 0.25))
+        return;
+    double step = seg_near_box(g, a->pq.uv, b->pq.uv, 0) ? 1e-7 : DENSE_STEP;
+    double len = 0;
+    for (int i = 0; i < 2; i++) {
+        double w = g->p_analytic ? g->an_range[2 * i + 1] - g->an_range[2 * i] : 1;
+        if (g->p_analytic && (g->an_period[i] > 0 || !isfinite(w)))
+            continue;
+        len = fmax(len, fabs(b->pq.uv[i] - a->pq.uv[i]) / w);
+    }
+    if (len <= step)
+        return;
+    sample m;
+    mid_sample(&m, a, b, g);
+    densify(D, nd, alloc, a, &m, g, depth + 1);
+    if (*nd == *alloc) {
+        *alloc *= 2;
+        *D = realloc(*D, (size_t)*alloc * sizeof(sample));
+    }
+    (*D)[(*nd)++] = m;
+    densify(D, nd, alloc, &m, b, g, depth + 1);
+}
+
 void _cb_ssi_clip(_cb_ssi_piece_set *out, const _cb_ssi_trace_set *ts,
                   const _cb_ssi_pair_geom *g)
 {
@@ -460,11 +592,32 @@ void _cb_ssi_clip(_cb_ssi_piece_set *out, const _cb_ssi_trace_set *ts,
                 p_start(pq.uv, g, X);
             else if (g->p_analytic)
                 analytic_invert(pq.uv, g, X, S[i - 1].pq.uv);
-            else
+            else {
                 memcpy(pq.uv, S[i - 1].pq.uv, sizeof pq.uv);
+                p_project(pq.uv, g, X);
+            }
             S[i].gap = refine(&pq, S[i].X, g);
             S[i].pq = pq;
             S[i].in = inside_p(g, &pq, S[i].gap);
+        }
+        if (!tc->isolated && n > 1) {
+            /* A long traced chord between two outside samples (a straight line needs few) may
+             * cross P's box: sample it there. */
+            slong nd = 0, alloc = 2 * n + 2;
+            sample *D = malloc((size_t)alloc * sizeof(sample));
+            for (slong i = 0; i < n; i++) {
+                if (i > 0)
+                    densify(&D, &nd, &alloc, S + i - 1, S + i, g, 0);
+                if (nd + 1 >= alloc) {
+                    alloc *= 2;
+                    D = realloc(D, (size_t)alloc * sizeof(sample));
+                }
+                D[nd++] = S[i];
+            }
+            free(S);
+            S = D;
+            n = nd;
+            S = realloc(S, (size_t)(n + 1) * sizeof(sample));
         }
         if (tc->isolated) {
             if (S[0].in && keep_piece(g, S[0].X)) {

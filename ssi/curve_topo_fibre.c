@@ -129,6 +129,10 @@ static cb_status state_pin_push(line_state *st, cb_error *err)
     return CB_OK;
 }
 
+/* Bits to which an irrational-looking critical value is refined before its analysis, to
+ * recognise a dyadic rational one (see cb_ctopo_fibre_analyse). */
+#define RATIONAL_PROBE_BITS 160
+
 static void range_update(line_state *st)
 {
     cb_ctopo_line_struct *L = st->L;
@@ -146,12 +150,14 @@ static void range_update(line_state *st)
             fmpq_swap(L->right, x);
         fmpq_clear(x);
         fmpq_clear(a);
-    } else {
+    } else if (!fmpq_equal(st->cv->root[st->k].lo, st->cv->root[st->k].hi)) {
         fmpq_set(L->lo, st->cv->root[st->k].lo);
         fmpq_set(L->hi, st->cv->root[st->k].hi);
         fmpq_set(L->left, L->lo);
         fmpq_set(L->right, L->hi);
     }
+    /* (A refinement that hit a rational alpha exactly keeps the helping lines it had: they
+     * must not collapse onto alpha. cb_ctopo_fibre_analyse turns such lines rational first.) */
     fmpq_set(st->sl, L->has_left ? L->left : L->lo);
     fmpq_set(st->sr, L->has_right ? L->right : L->hi);
     st->n_fib = 0;
@@ -629,9 +635,11 @@ static cb_status irrational_facts(line_state *st, cb_error *err)
     st->gcd_deg = 0;
     fmpz_poly_t res;
     fmpz_poly_init(res);
-    if (top < C->h->len - 1)
+    /* A fibre of degree < 2 in t (lc_t h vanishing with all but the lowest one or two
+     * coefficients) has no multiple root; its subresultants would be empty determinants. */
+    if (n >= 2 && top < C->h->len - 1)
         cb_ctopo_sres_coeff(res, st->hf, 0, 0);
-    else
+    else if (n >= 2)
         fmpz_poly_set(res, C->res);
     int multiple = n >= 2 && cb_ctopo_alg_vanishes(res, r, lo, hi);
     if (multiple) {
@@ -1000,6 +1008,40 @@ cb_status cb_ctopo_fibre_analyse(cb_ctopo_fibre_t F, const cb_ctopo_curve_struct
     fmpz_poly_init(st.beta_den);
     fmpq_sub(st.w, st.t1, st.t0);
     fmpq_div_2exp(st.w, st.w, 3);
+    if (!st.rational) {
+        /* An interval that is not a point may still hold a rational alpha (a dyadic one is hit
+         * exactly by bisection, possibly late, when the helping lines would collapse onto it).
+         * Refining to 2^-RATIONAL_PROBE_BITS finds every dyadic alpha of fewer bits; such a
+         * line becomes rational, with helping lines alpha -+ eps inside its isolating interval
+         * (which holds no other critical value), eps a power of two at most a quarter of the
+         * room on either side. */
+        fmpq_t w;
+        fmpq_init(w);
+        fmpz_one(fmpq_numref(w));
+        fmpz_one_2exp(fmpq_denref(w), RATIONAL_PROBE_BITS);
+        cb_roots_refine(cv, k, w);
+        const cb_root_interval_struct *iv = cv->root + k;
+        if (fmpq_equal(iv->lo, iv->hi)) {
+            fmpq_t room;
+            fmpq_init(room);
+            fmpq_sub(room, iv->lo, L->lo);
+            fmpq_sub(w, L->hi, iv->lo);
+            if (fmpq_cmp(w, room) < 0)
+                fmpq_set(room, w);
+            fmpq_div_2exp(room, room, 2);
+            fmpq_one(w);
+            while (fmpq_cmp(w, room) > 0)
+                fmpq_div_2exp(w, w, 1);
+            fmpq_set(L->lo, iv->lo);
+            fmpq_set(L->hi, iv->lo);
+            fmpq_sub(L->left, L->lo, w);
+            fmpq_add(L->right, L->lo, w);
+            L->s = fmpq_get_d(L->lo);
+            st.rational = 1;
+            fmpq_clear(room);
+        }
+        fmpq_clear(w);
+    }
     if (st.rational)
         fmpq_sub(st.eps, L->has_right ? L->right : L->lo, L->has_right ? L->lo : L->left);
     range_update(&st);

@@ -4,10 +4,12 @@
 
 #include <math.h>
 
+#include <flint/fmpz_mat.h>
 #include <flint/fmpz_mpoly_factor.h>
 #include <flint/fmpz_vec.h>
 
 #include "ssi/dixon_internal.h"
+
 #include "ssi/implicit_internal.h"
 
 /* ---------------------------------------------------------------- modular kernels ---------- */
@@ -447,40 +449,252 @@ cb_status cb_implicit_from_dixon(cb_implicit_t F, const cb_dixon_pencil_t D,
     return ret;
 }
 
+/* out = sum_k a[k] x_k + b w (x_k the variables 0..2, w variable 3). */
+static void linear_form(fmpz_mpoly_t out, const fmpz *a, const fmpz_t b,
+                        const fmpz_mpoly_ctx_t ctx)
+{
+    fmpz_mpoly_t g;
+    fmpz_mpoly_init(g, ctx);
+    fmpz_mpoly_zero(out, ctx);
+    for (int k = 0; k < 4; k++) {
+        fmpz_mpoly_gen(g, k, ctx);
+        fmpz_mpoly_scalar_mul_fmpz(g, g, k < 3 ? a + k : b, ctx);
+        fmpz_mpoly_add(out, out, g, ctx);
+    }
+    fmpz_mpoly_clear(g, ctx);
+}
+
+/* A += c B (sub: A -= c B). */
+static void mpoly_addmul(fmpz_mpoly_t A, const fmpz_mpoly_t B, const fmpz_t c, int sub,
+                         const fmpz_mpoly_ctx_t ctx)
+{
+    fmpz_mpoly_t t;
+    fmpz_mpoly_init(t, ctx);
+    fmpz_mpoly_scalar_mul_fmpz(t, B, c, ctx);
+    if (sub)
+        fmpz_mpoly_sub(A, A, t, ctx);
+    else
+        fmpz_mpoly_add(A, A, t, ctx);
+    fmpz_mpoly_clear(t, ctx);
+}
+
 cb_status cb_implicit_from_analytic(cb_implicit_t F, const cb_analytic_surface *s,
                                     cb_error *err)
 {
-    cb_poly3_t p;
-    cb_poly3_init(p);
-    cb_status st = cb_analytic_implicit(p, s, err);
-    if (st != CB_OK) {
-        cb_poly3_clear(p);
-        return st;
+    /* The doubles of the frame (x, y, z, o) and of the shape (r1, r2, r3, tan a) as integers
+     * V 2^e with one exponent e <= 0. */
+    double v[16];
+    const cb_frame *f = &s->frame;
+    for (int k = 0; k < 3; k++) {
+        v[k] = f->x[k];
+        v[3 + k] = f->y[k];
+        v[6 + k] = f->z[k];
+        v[9 + k] = f->o[k];
     }
-    slong N = -1, idx = 0;
-    for (slong t = 0; t <= p->deg; t++)
-        for (slong i = 0; i < (t + 1) * (t + 2) / 2; i++, idx++) {
-            if (!isfinite(p->c[idx])) {
-                cb_poly3_clear(p);
-                return cb_error_set(err, CB_ERR_NUMERIC, "%s equation has a non-finite "
-                                    "coefficient", cb_analytic_kind_name(s->kind));
-            }
-            if (p->c[idx] != 0.0)
-                N = t;
+    v[12] = s->r1;
+    v[13] = s->r2;
+    v[14] = s->r3;
+    v[15] = s->kind == CB_ANALYTIC_CONE ? tan(s->angle) : 0;
+    for (int k = 0; k < 16; k++)
+        if (!isfinite(v[k]))
+            return cb_error_set(err, CB_ERR_NUMERIC, "%s: non-finite frame or shape value",
+                                cb_analytic_kind_name(s->kind));
+    fmpz *V = _fmpz_vec_init(16);
+    slong e = _cb_dyadic_to_fmpz(V, v, 16);
+    if (e > 0) {
+        _fmpz_vec_scalar_mul_2exp(V, V, 16, (ulong)e);
+        e = 0;
+    }
+    ulong me = (ulong)(-e);
+    fmpz_mpoly_ctx_t ctx;
+    fmpz_mpoly_ctx_init(ctx, 4, ORD_DEGREVLEX);
+    /* L[i] = 2^(-2e) (local coordinate i) = 2^(-e) sum_k Frame_ik x_k - sum_k Frame_ik O_k w,
+     * lengths scaled alike: R[j] = 2^(-2e) r_j = 2^(-e) V_j. */
+    fmpz_mpoly_t L[3], A, B, T, W;
+    fmpz a[3], R[3];
+    fmpz_t b;
+    fmpz_init(b);
+    for (int i = 0; i < 3; i++) {
+        fmpz_init(a + i);
+        fmpz_init(R + i);
+        fmpz_mul_2exp(R + i, V + 12 + i, me);
+    }
+    for (int i = 0; i < 3; i++) {
+        fmpz_mpoly_init(L[i], ctx);
+        fmpz_zero(b);
+        for (int k = 0; k < 3; k++) {
+            fmpz_mul_2exp(a + k, V + 3 * i + k, me);
+            fmpz_submul(b, V + 3 * i + k, V + 9 + k);
         }
-    if (N < 1) {
-        cb_poly3_clear(p);
-        return cb_error_set(err, CB_ERR_INVALID, "%s equation is constant",
-                            cb_analytic_kind_name(s->kind));
+        linear_form(L[i], a, b, ctx);
     }
-    slong len = cb_poly3_len((int)N);
-    fmpz *c = _fmpz_vec_init(len);
-    _cb_dyadic_to_fmpz(c, p->c, len);
-    cb_poly3_clear(p);
+    fmpz_mpoly_init(A, ctx);
+    fmpz_mpoly_init(B, ctx);
+    fmpz_mpoly_init(T, ctx);
+    fmpz_mpoly_init(W, ctx);
+    fmpz_mpoly_gen(W, 3, ctx);
+    /* rho2 = L0^2 + L1^2 */
+    fmpz_mpoly_mul(A, L[0], L[0], ctx);
+    fmpz_mpoly_mul(T, L[1], L[1], ctx);
+    fmpz_mpoly_add(A, A, T, ctx);
+    fmpz_t c;
+    fmpz_init(c);
+    switch (s->kind) {
+    case CB_ANALYTIC_PLANE:
+        fmpz_mpoly_set(A, L[2], ctx);
+        break;
+    case CB_ANALYTIC_CYLINDER: /* rho^2 - r^2 w^2 */
+        fmpz_mul(c, R + 0, R + 0);
+        fmpz_mpoly_pow_ui(T, W, 2, ctx);
+        mpoly_addmul(A, T, c, 1, ctx);
+        break;
+    case CB_ANALYTIC_SPHERE: /* rho^2 + z^2 - r^2 w^2 */
+        fmpz_mpoly_mul(T, L[2], L[2], ctx);
+        fmpz_mpoly_add(A, A, T, ctx);
+        fmpz_mul(c, R + 0, R + 0);
+        fmpz_mpoly_pow_ui(T, W, 2, ctx);
+        mpoly_addmul(A, T, c, 1, ctx);
+        break;
+    case CB_ANALYTIC_CONE: /* 2^(-2e) rho^2 - (2^(-e) r w + t z)^2, t = tan a 2^(-e) */
+        fmpz_one(c);
+        fmpz_mul_2exp(c, c, 2 * me);
+        fmpz_mpoly_scalar_mul_fmpz(A, A, c, ctx);
+        fmpz_mul_2exp(c, R + 0, me);
+        fmpz_mpoly_scalar_mul_fmpz(B, W, c, ctx);
+        mpoly_addmul(B, L[2], V + 15, 0, ctx);
+        fmpz_mpoly_mul(T, B, B, ctx);
+        fmpz_mpoly_sub(A, A, T, ctx);
+        break;
+    case CB_ANALYTIC_TORUS: /* (rho^2 + z^2 + (R^2 - r^2) w^2)^2 - 4 R^2 rho^2 w^2 */
+        fmpz_mpoly_mul(T, L[2], L[2], ctx);
+        fmpz_mpoly_add(B, A, T, ctx);
+        fmpz_mul(c, R + 0, R + 0);
+        fmpz_submul(c, R + 1, R + 1);
+        fmpz_mpoly_pow_ui(T, W, 2, ctx);
+        mpoly_addmul(B, T, c, 0, ctx);
+        fmpz_mpoly_mul(B, B, B, ctx);
+        fmpz_mul(c, R + 0, R + 0);
+        fmpz_mul_2exp(c, c, 2);
+        fmpz_mpoly_mul(A, A, T, ctx);
+        mpoly_addmul(B, A, c, 1, ctx);
+        fmpz_mpoly_swap(A, B, ctx);
+        break;
+    case CB_ANALYTIC_ELLIPSOID: { /* b^2 c^2 x^2 + a^2 c^2 y^2 + a^2 b^2 z^2 - a^2 b^2 c^2 w^2 */
+        fmpz q[3];
+        fmpz_mpoly_zero(A, ctx);
+        for (int i = 0; i < 3; i++) {
+            fmpz_init(q + i);
+            fmpz_mul(q + i, R + i, R + i);
+        }
+        for (int i = 0; i < 3; i++) {
+            fmpz_mul(c, q + (i + 1) % 3, q + (i + 2) % 3);
+            fmpz_mpoly_mul(T, L[i], L[i], ctx);
+            mpoly_addmul(A, T, c, 0, ctx);
+        }
+        fmpz_mul(c, q + 0, q + 1);
+        fmpz_mul(c, c, q + 2);
+        fmpz_mpoly_pow_ui(T, W, 2, ctx);
+        mpoly_addmul(A, T, c, 1, ctx);
+        for (int i = 0; i < 3; i++)
+            fmpz_clear(q + i);
+        break;
+    }
+    }
+    slong N = fmpz_mpoly_total_degree_si(A, ctx);
+    cb_status st = CB_OK;
+    if (fmpz_mpoly_is_zero(A, ctx) || N < 1) {
+        st = cb_error_set(err, CB_ERR_INVALID, "%s equation is constant",
+                          cb_analytic_kind_name(s->kind));
+    } else {
+        slong deg;
+        fmpz *cc = mpoly_to_dense(&deg, A, ctx);
+        F->rank = 0;
+        F->factored = 0;
+        implicit_adopt(F, cc, deg);
+    }
+    fmpz_clear(c);
+    fmpz_clear(b);
+    for (int i = 0; i < 3; i++) {
+        fmpz_clear(a + i);
+        fmpz_clear(R + i);
+        fmpz_mpoly_clear(L[i], ctx);
+    }
+    fmpz_mpoly_clear(A, ctx);
+    fmpz_mpoly_clear(B, ctx);
+    fmpz_mpoly_clear(T, ctx);
+    fmpz_mpoly_clear(W, ctx);
+    fmpz_mpoly_ctx_clear(ctx);
+    _fmpz_vec_clear(V, 16);
+    return st;
+}
+
+cb_status cb_implicit_from_plane_patch(cb_implicit_t F, const cb_dixon_patch_t P, cb_error *err)
+{
+    slong len = (P->m + 1) * (P->n + 1);
+    fmpz_mat_t Ct, X;
+    fmpz_mat_init(Ct, len, 4);
+    fmpz_mat_init(X, 4, 4);
+    for (int q = 0; q < 4; q++)
+        for (slong i = 0; i < len; i++)
+            fmpz_set(fmpz_mat_entry(Ct, i, q), P->coef + q * len + i);
+    slong nul = fmpz_mat_nullspace(X, Ct);
+    fmpz_mat_clear(Ct);
+    if (nul != 1) {
+        fmpz_mat_clear(X);
+        return cb_error_set(err, CB_ERR_INVALID,
+                            "plane of a patch: its homogeneous coefficients span %ld "
+                            "dimensions, not 3 (%s)",
+                            (long)(4 - nul), nul > 1 ? "the patch collapses" : "not planar");
+    }
+    /* L . (a, b, c, d) = 0: F = L0 x + L1 y + L2 z + L3 w in the cb_poly3 layout
+     * (index 0 is w, 1 x, 2 y, 3 z). */
+    fmpz *c = _fmpz_vec_init(cb_poly3_len(1));
+    fmpz_set(c + 0, fmpz_mat_entry(X, 3, 0));
+    fmpz_set(c + cb_poly3_index(1, 0, 0), fmpz_mat_entry(X, 0, 0));
+    fmpz_set(c + cb_poly3_index(0, 1, 0), fmpz_mat_entry(X, 1, 0));
+    fmpz_set(c + cb_poly3_index(0, 0, 1), fmpz_mat_entry(X, 2, 0));
+    fmpz_mat_clear(X);
     F->rank = 0;
     F->factored = 0;
-    implicit_adopt(F, c, N);
+    implicit_adopt(F, c, 1);
     return CB_OK;
+}
+
+cb_status cb_implicit_plane_through(cb_implicit_t F, const double h[3][4], cb_error *err)
+{
+    double v[12];
+    for (int i = 0; i < 3; i++)
+        for (int q = 0; q < 4; q++) {
+            v[4 * i + q] = h[i][q];
+            if (!isfinite(h[i][q]))
+                return cb_error_set(err, CB_ERR_INVALID, "plane through points: non-finite value");
+        }
+    fmpz *V = _fmpz_vec_init(12);
+    _cb_dyadic_to_fmpz(V, v, 12);
+    fmpz_mat_t M, X;
+    fmpz_mat_init(M, 3, 4);
+    fmpz_mat_init(X, 4, 4);
+    for (int i = 0; i < 3; i++)
+        for (int q = 0; q < 4; q++)
+            fmpz_set(fmpz_mat_entry(M, i, q), V + 4 * i + q);
+    slong nul = fmpz_mat_nullspace(X, M);
+    cb_status st = CB_OK;
+    if (nul != 1) {
+        st = cb_error_set(err, CB_ERR_INVALID, "plane through points: the points are collinear");
+    } else {
+        fmpz *c = _fmpz_vec_init(cb_poly3_len(1));
+        fmpz_set(c + 0, fmpz_mat_entry(X, 3, 0));
+        fmpz_set(c + cb_poly3_index(1, 0, 0), fmpz_mat_entry(X, 0, 0));
+        fmpz_set(c + cb_poly3_index(0, 1, 0), fmpz_mat_entry(X, 1, 0));
+        fmpz_set(c + cb_poly3_index(0, 0, 1), fmpz_mat_entry(X, 2, 0));
+        F->rank = 0;
+        F->factored = 0;
+        implicit_adopt(F, c, 1);
+    }
+    fmpz_mat_clear(M);
+    fmpz_mat_clear(X);
+    _fmpz_vec_clear(V, 12);
+    return st;
 }
 
 int cb_implicit_choose(const cb_dixon_pencil_t DP, const cb_dixon_pencil_t DQ)

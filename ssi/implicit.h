@@ -52,11 +52,31 @@ void cb_implicit_swap(cb_implicit_t F, cb_implicit_t G);
 cb_status cb_implicit_from_dixon(cb_implicit_t F, const cb_dixon_pencil_t D,
                                  const cb_dixon_patch_t P, cb_error *err);
 
-/* F from the exact implicit equation of an analytic surface (cb_analytic_implicit), its double
- * coefficients scaled to integers by one power of two (exact), trimmed to the true degree
- * (plane 1, quadrics 2, torus 4) and made primitive. */
+/* F from the implicit equation of an analytic surface, exact for its doubles: the local
+ * equation (plane z', cylinder x'^2 + y'^2 - r^2, sphere x'^2 + y'^2 + z'^2 - r^2, cone
+ * x'^2 + y'^2 - (r + z' tan a)^2 with tan a rounded once, torus (rho^2 + z'^2 + R^2 - r^2)^2 -
+ * 4 R^2 rho^2, ellipsoid b^2 c^2 x'^2 + a^2 c^2 y'^2 + a^2 b^2 z'^2 - a^2 b^2 c^2; no
+ * normalising division) with x' = X . (p - O), ... substituted in integer arithmetic, every
+ * double of the frame and shape taken as the dyadic rational it is. Degree 1, 2 or 4,
+ * primitive. So a cylinder of radius 3/8 about a line at a dyadic offset gives integer
+ * coefficients with no rounding, and a patch lying on it gives phi = 0 exactly (the
+ * normalised equation of cb_analytic_implicit divides by 2 r and would round). */
 cb_status cb_implicit_from_analytic(cb_implicit_t F, const cb_analytic_surface *s,
                                     cb_error *err);
+
+/* F = the plane of a planar patch (one whose homogeneous coefficients span a 3-dimensional
+ * space, so that cb_dixon_pencil_set refuses it), exactly: the integer vector L with
+ * L . P(u, v) = 0 identically, the null space of the 4 x (m+1)(n+1) coefficient matrix
+ * (fmpz_mat_nullspace), degree 1, primitive. No rounding: a patch on the plane z = 1 gives
+ * exactly z - w, so phi of a curve lying on Q's patch side is exactly divisible by that side.
+ * CB_ERR_INVALID when the null space is not one-dimensional. */
+cb_status cb_implicit_from_plane_patch(cb_implicit_t F, const cb_dixon_patch_t P, cb_error *err);
+
+/* F = the plane through three homogeneous points h[i] = (w x, w y, w z, w), exactly (the null
+ * vector of their 3 x 4 integer matrix), degree 1, primitive. CB_ERR_INVALID when they are
+ * collinear. For a patch that is planar up to the rounding of its control points (a planar
+ * face turned by a rotation): the plane through three of them. */
+cb_status cb_implicit_plane_through(cb_implicit_t F, const double h[3][4], cb_error *err);
 
 /* F at the Euclidean point X (w = 1), from the scaled coefficients: F(X) 2^-exp. Method: sum
  * over monomials with power tables. */

@@ -1,4 +1,4 @@
-/* spline.h — the subdivision route for polynomial B-spline/B-spline patch pairs (primer 7;
+/* spline.h — the subdivision route for B-spline/B-spline patch pairs (primer 7;
  * Sederberg and Meyers 1988). Internal to ssi/: the driver (ssi_pairs.c) calls
  * _cb_ssi_spline_pair for Bezier patch pairs whose phi would be of too high a degree for the
  * algebraic route. Not a public API.
@@ -6,7 +6,9 @@
  * Certification. A pair of sub-patches is certified when
  *   (a) a direction e is proved to satisfy e . (n_P x n_Q) > 0 for every normal n_P of the
  *       P sub-patch and n_Q of the Q sub-patch: the normals S_u x S_v of a polynomial patch are
- *       convex combinations of the Bernstein coefficients of S_u x S_v, so it suffices that
+ *       convex combinations of the Bernstein coefficients of S_u x S_v (of a rational patch
+ *       P / w: positive multiples of N = w (P_u x P_v) - w_u (P x P_v) - w_v (P_u x P), of
+ *       bidegree (3m - 1, 3n - 1), since S_u x S_v = N / w^3), so it suffices that
  *       e . (A_i x B_k) > 0 for every pair of coefficients, each decided by an error bound
  *       that excludes zero (coefficients enclosed in interval arithmetic with outward
  *       rounding, de Casteljau subdivision included). Then no two normals are parallel, the
@@ -33,8 +35,9 @@
  * Outside the proof: the Bezier patches themselves are the floating-point result of knot
  * insertion (as for the algebraic route), and the polyline between marched points.
  *
- * Only polynomial (non-rational) patches are handled: the normal-cone bound above needs
- * polynomial derivatives. */
+ * Rational patches need positive weights: then every sub-patch lies in the convex hull of its
+ * Euclidean control points (homogeneous nets are subdivided, then divided by their weight
+ * intervals), and a weight enclosure never reaches 0 over [0,1]^2. */
 #ifndef CB_SSI_SPLINE_H
 #define CB_SSI_SPLINE_H
 
@@ -94,33 +97,46 @@ static inline _cb_iv _cb_iv_mul(_cb_iv a, _cb_iv b)
     return r;
 }
 
-/* ---------------------------------------------------------------- polynomial patches ------- */
+/* ---------------------------------------------------------------- Bezier patches ----------- */
 
-/* A polynomial Bezier patch in its local parameters [0,1]^2: control points exact doubles,
- * pts[3 (i (n + 1) + j) + k], u outer; dom = the caller's parameter box it maps to. */
+/* A Bezier patch in its local parameters [0,1]^2, u outer; dom = the caller's parameter box it
+ * maps to. Polynomial (rat = 0): control points pts[3 (i (n + 1) + j) + k], exact doubles.
+ * Rational (rat = 1): homogeneous control points pts[4 (i (n + 1) + j) + k] = (w x, w y, w z,
+ * w), exact doubles, every weight > 0 (so the patch lies in the convex hull of its Euclidean
+ * control points, and of those of every sub-patch). dim = 3 + rat values per control point. */
 typedef struct {
-    int m, n;
+    int m, n, rat, dim;
     double *pts;
     double dom[4];
 } _cb_ssi_bez;
 
-/* From one Bezier patch of cb_nurbs_surface_extract_bezier. CB_ERR_UNSUPPORTED for a
- * rational patch (weights not all equal), CB_ERR_NOMEM. */
+/* From one Bezier patch of cb_nurbs_surface_extract_bezier: polynomial when all weights are
+ * equal (then divided out), else rational. CB_ERR_UNSUPPORTED for a weight <= 0 (no convex
+ * hull), CB_ERR_INVALID for a patch that is not a single Bezier patch, CB_ERR_NOMEM. */
 cb_status _cb_ssi_bez_set(_cb_ssi_bez *b, const cb_nurbs_surface_struct *s, cb_error *err);
 void _cb_ssi_bez_clear(_cb_ssi_bez *b);
 
-/* Point and first partials at (u, v) (floating point de Casteljau). */
+/* Point and first partials at (u, v) (floating point de Casteljau; rational: quotient rule). */
 void _cb_ssi_bez_eval(double X[3], double Xu[3], double Xv[3], const _cb_ssi_bez *b, double u,
                       double v);
 
 /* Enclosures of the point and first partials over the parameter box u x v (interval de
- * Casteljau, outward rounding). */
+ * Casteljau, outward rounding; a rational patch by X = P / w, X_u = (P_u - X w_u) / w on the
+ * homogeneous enclosures). */
 void _cb_ssi_bez_eval_iv(_cb_iv X[3], _cb_iv Xu[3], _cb_iv Xv[3], const _cb_ssi_bez *b, _cb_iv u,
                          _cb_iv v);
 
-/* Splits the Bezier curve with d + 1 enclosed three-vector control points c[k stride] at its
- * parameter 1/2 into lo and hi (same layout): enclosures of the halves' control points. */
-void _cb_ssi_split_iv(_cb_iv *lo, _cb_iv *hi, const _cb_iv *c, int d, int stride);
+/* Splits the Bezier curve with d + 1 enclosed control points of dim values (3: Euclidean, 4:
+ * homogeneous) c[k stride] at its parameter 1/2 into lo and hi (same layout): enclosures of the
+ * halves' control points. */
+void _cb_ssi_split_iv(_cb_iv *lo, _cb_iv *hi, const _cb_iv *c, int d, int stride, int dim);
+
+/* x / w for an interval w > 0 (outward rounding). */
+_cb_iv _cb_iv_div(_cb_iv x, _cb_iv w);
+
+/* Euclidean enclosures (3 per point) of np control points of dim values (4: homogeneous,
+ * divided by their weight intervals; 3: copied). */
+void _cb_ssi_net_eucl(_cb_iv *out, const _cb_iv *net, int np, int dim);
 
 /* ---------------------------------------------------------------- edge/surface roots ------- */
 
@@ -133,9 +149,10 @@ typedef struct {
 
 /* All roots of E(w) = S(a, b) with w in [w0, w1] and (a, b) in box = {a0, a1, b0, b1}, where
  * E is the iso-curve of patch C at parameter dir (0: u) fixed to c, w running over the other
- * parameter. cnet (C's degree along w plus 1 points) and snet (S's net, u outer) enclose the
- * control points of E over [w0, w1] and of S over box; they give the exclusion tests (convex
- * hulls compared along a few axes), subdivided with the boxes. Appends to roots (capacity
+ * parameter. cnet (C's degree along w plus 1 points, C->dim values each) and snet (S's net, u
+ * outer, S->dim values each) enclose the control points of E over [w0, w1] and of S over box;
+ * they give the exclusion tests (convex hulls of the Euclidean points compared along a few
+ * axes), subdivided with the boxes. Appends to roots (capacity
  * cap, count *n). Returns 1 when every root was found and certified simple and strictly
  * inside the domain, 0 when ambiguous (a root on or near the domain's boundary, a multiple or
  * near-multiple root, more than cap roots, or more than budget boxes). */
@@ -163,10 +180,10 @@ typedef struct {
     int march_failed;          /* branches whose marching did not converge (reported uncertified) */
 } _cb_ssi_spline_stats;
 
-/* The intersection of the polynomial Bezier patches P and Q (certified as above): one piece
- * per certified branch appended to out, points refined onto both patches (|P - Q| <= tol /
- * 100), uv / st in the patches' domains (P->dom, Q->dom), chords within chord and max_seg.
- * Deterministic (serial inside). */
+/* The intersection of the Bezier patches P and Q, polynomial or rational (certified as above):
+ * one piece per certified branch appended to out, points refined onto both patches
+ * (|P - Q| <= tol / 100), uv / st in the patches' domains (P->dom, Q->dom), chords within chord
+ * and max_seg. Deterministic (serial inside). */
 void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *stats, const _cb_ssi_bez *P,
                          const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o);
 

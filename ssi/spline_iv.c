@@ -32,20 +32,29 @@ cb_status _cb_ssi_bez_set(_cb_ssi_bez *b, const cb_nurbs_surface_struct *s, cb_e
                             "degree %d, %d)",
                             s->n_u, s->n_v, s->deg_u, s->deg_v);
     double w0 = s->cw[3];
-    for (int k = 0; k < s->n_u * s->n_v; k++)
-        if (s->cw[4 * k + 3] != w0)
+    int np = s->n_u * s->n_v;
+    for (int k = 0; k < np; k++) {
+        if (!(s->cw[4 * k + 3] > 0))
             return cb_error_set(err, CB_ERR_UNSUPPORTED,
-                                "ssi: rational patch (weight %g at control point %d, %g at 0) "
-                                "is not handled by the subdivision route",
-                                s->cw[4 * k + 3], k, w0);
+                                "ssi: weight %g <= 0 at control point %d: the subdivision route "
+                                "needs positive weights (convex hulls)",
+                                s->cw[4 * k + 3], k);
+        if (s->cw[4 * k + 3] != w0)
+            b->rat = 1;
+    }
     b->m = s->deg_u;
     b->n = s->deg_v;
-    b->pts = malloc((size_t)(3 * s->n_u * s->n_v) * sizeof(double));
+    b->dim = 3 + b->rat;
+    b->pts = malloc((size_t)(b->dim * np) * sizeof(double));
     if (!b->pts)
         return cb_error_set(err, CB_ERR_NOMEM, "ssi: no memory for a Bezier patch");
-    for (int k = 0; k < s->n_u * s->n_v; k++)
-        for (int q = 0; q < 3; q++)
-            b->pts[3 * k + q] = s->cw[4 * k + q] / w0;
+    for (int k = 0; k < np; k++) {
+        if (b->rat)
+            memcpy(b->pts + 4 * k, s->cw + 4 * k, 4 * sizeof(double));
+        else
+            for (int q = 0; q < 3; q++)
+                b->pts[3 * k + q] = s->cw[4 * k + q] / w0;
+    }
     cb_nurbs_surface_domain(s, b->dom);
     return CB_OK;
 }
@@ -56,15 +65,15 @@ void _cb_ssi_bez_clear(_cb_ssi_bez *b)
     memset(b, 0, sizeof(*b));
 }
 
-/* de Casteljau on d + 1 three-vectors c (destroyed): value at t and derivative. */
-static void dc(double val[3], double der[3], double *c, int d, double t)
+/* de Casteljau on d + 1 points of dim values c (destroyed): value at t and derivative. */
+static void dc(double *val, double *der, double *c, int d, double t, int dim)
 {
     for (int r = 1; r < d; r++)
         for (int i = 0; i + r <= d; i++)
-            for (int q = 0; q < 3; q++)
-                c[3 * i + q] += t * (c[3 * i + 3 + q] - c[3 * i + q]);
-    for (int q = 0; q < 3; q++) {
-        double diff = c[3 + q] - c[q];
+            for (int q = 0; q < dim; q++)
+                c[dim * i + q] += t * (c[dim * i + dim + q] - c[dim * i + q]);
+    for (int q = 0; q < dim; q++) {
+        double diff = c[dim + q] - c[q];
         val[q] = c[q] + t * diff;
         if (der)
             der[q] = d * diff;
@@ -74,56 +83,115 @@ static void dc(double val[3], double der[3], double *c, int d, double t)
 void _cb_ssi_bez_eval(double X[3], double Xu[3], double Xv[3], const _cb_ssi_bez *b, double u,
                       double v)
 {
-    double row[3 * (CB_MAX_DEGREE + 1)], cu[3 * (CB_MAX_DEGREE + 1)], cv[3 * (CB_MAX_DEGREE + 1)];
+    int D = b->dim;
+    double row[4 * (CB_MAX_DEGREE + 1)], cu[4 * (CB_MAX_DEGREE + 1)], cv[4 * (CB_MAX_DEGREE + 1)];
+    double P[4], Pu[4], Pv[4], dummy[4];
     for (int i = 0; i <= b->m; i++) {
-        memcpy(row, b->pts + 3 * i * (b->n + 1), 3 * (size_t)(b->n + 1) * sizeof(double));
-        dc(cu + 3 * i, cv + 3 * i, row, b->n, v);
+        memcpy(row, b->pts + D * i * (b->n + 1), (size_t)(D * (b->n + 1)) * sizeof(double));
+        dc(cu + D * i, cv + D * i, row, b->n, v, D);
     }
-    dc(X, Xu, cu, b->m, u);
-    double dummy[3];
-    dc(Xv, dummy, cv, b->m, u);
+    dc(P, Pu, cu, b->m, u, D);
+    dc(Pv, dummy, cv, b->m, u, D);
+    if (!b->rat) {
+        memcpy(X, P, 3 * sizeof(double));
+        memcpy(Xu, Pu, 3 * sizeof(double));
+        memcpy(Xv, Pv, 3 * sizeof(double));
+        return;
+    }
+    for (int q = 0; q < 3; q++) {
+        X[q] = P[q] / P[3];
+        Xu[q] = (Pu[q] - X[q] * Pu[3]) / P[3];
+        Xv[q] = (Pv[q] - X[q] * Pv[3]) / P[3];
+    }
 }
 
-static void dc_iv(_cb_iv val[3], _cb_iv der[3], _cb_iv *c, int d, _cb_iv t)
+static void dc_iv(_cb_iv *val, _cb_iv *der, _cb_iv *c, int d, _cb_iv t, int dim)
 {
     for (int r = 1; r < d; r++)
         for (int i = 0; i + r <= d; i++)
-            for (int q = 0; q < 3; q++)
-                c[3 * i + q] = _cb_iv_add(
-                    c[3 * i + q], _cb_iv_mul(t, _cb_iv_sub(c[3 * i + 3 + q], c[3 * i + q])));
-    for (int q = 0; q < 3; q++) {
-        _cb_iv diff = _cb_iv_sub(c[3 + q], c[q]);
+            for (int q = 0; q < dim; q++)
+                c[dim * i + q] = _cb_iv_add(
+                    c[dim * i + q],
+                    _cb_iv_mul(t, _cb_iv_sub(c[dim * i + dim + q], c[dim * i + q])));
+    for (int q = 0; q < dim; q++) {
+        _cb_iv diff = _cb_iv_sub(c[dim + q], c[q]);
         val[q] = _cb_iv_add(c[q], _cb_iv_mul(t, diff));
         if (der)
             der[q] = _cb_iv_mul(_cb_iv_pt((double)d), diff);
     }
 }
 
+_cb_iv _cb_iv_div(_cb_iv x, _cb_iv w)
+{
+    if (!(w.lo > 0)) {
+        _cb_iv all = {-HUGE_VAL, HUGE_VAL};
+        return all;
+    }
+    double q0 = x.lo / w.lo, q1 = x.lo / w.hi, q2 = x.hi / w.lo, q3 = x.hi / w.hi;
+    _cb_iv r = {_cb_iv_dn(fmin(fmin(q0, q1), fmin(q2, q3))),
+                _cb_iv_up(fmax(fmax(q0, q1), fmax(q2, q3)))};
+    return r;
+}
+
+void _cb_ssi_net_eucl(_cb_iv *out, const _cb_iv *net, int np, int dim)
+{
+    for (int k = 0; k < np; k++)
+        for (int q = 0; q < 3; q++)
+            out[3 * k + q] = dim == 4 ? _cb_iv_div(net[4 * k + q], net[4 * k + 3])
+                                      : net[3 * k + q];
+}
+
 void _cb_ssi_bez_eval_iv(_cb_iv X[3], _cb_iv Xu[3], _cb_iv Xv[3], const _cb_ssi_bez *b, _cb_iv u,
                          _cb_iv v)
 {
-    _cb_iv row[3 * (CB_MAX_DEGREE + 1)], cu[3 * (CB_MAX_DEGREE + 1)], cv[3 * (CB_MAX_DEGREE + 1)];
+    int D = b->dim;
+    _cb_iv row[4 * (CB_MAX_DEGREE + 1)], cu[4 * (CB_MAX_DEGREE + 1)], cv[4 * (CB_MAX_DEGREE + 1)];
+    _cb_iv P[4], Pu[4], Pv[4];
     for (int i = 0; i <= b->m; i++) {
-        for (int k = 0; k < 3 * (b->n + 1); k++)
-            row[k] = _cb_iv_pt(b->pts[3 * i * (b->n + 1) + k]);
-        dc_iv(cu + 3 * i, cv + 3 * i, row, b->n, v);
+        for (int k = 0; k < D * (b->n + 1); k++)
+            row[k] = _cb_iv_pt(b->pts[D * i * (b->n + 1) + k]);
+        dc_iv(cu + D * i, cv + D * i, row, b->n, v, D);
     }
-    dc_iv(X, Xu, cu, b->m, u);
-    dc_iv(Xv, NULL, cv, b->m, u);
+    dc_iv(P, Pu, cu, b->m, u, D);
+    dc_iv(Pv, NULL, cv, b->m, u, D);
+    if (!b->rat) {
+        memcpy(X, P, 3 * sizeof(_cb_iv));
+        memcpy(Xu, Pu, 3 * sizeof(_cb_iv));
+        memcpy(Xv, Pv, 3 * sizeof(_cb_iv));
+        return;
+    }
+    /* Over [0,1]^2 the weight is a convex combination of the control weights: the interval
+     * de Casteljau enclosure (widened by the dependency on u and v) is cut to their range, which
+     * keeps it away from 0. Outside, an enclosure through 0 divides to the whole line. */
+    if (u.lo >= 0 && u.hi <= 1 && v.lo >= 0 && v.hi <= 1) {
+        double wl = HUGE_VAL, wh = -HUGE_VAL;
+        for (int k = 0; k < (b->m + 1) * (b->n + 1); k++) {
+            wl = fmin(wl, b->pts[4 * k + 3]);
+            wh = fmax(wh, b->pts[4 * k + 3]);
+        }
+        P[3].lo = fmax(P[3].lo, wl);
+        P[3].hi = fmin(P[3].hi, wh);
+    }
+    for (int q = 0; q < 3; q++) {
+        X[q] = _cb_iv_div(P[q], P[3]);
+        Xu[q] = _cb_iv_div(_cb_iv_sub(Pu[q], _cb_iv_mul(X[q], Pu[3])), P[3]);
+        Xv[q] = _cb_iv_div(_cb_iv_sub(Pv[q], _cb_iv_mul(X[q], Pv[3])), P[3]);
+    }
 }
 
-void _cb_ssi_split_iv(_cb_iv *lo, _cb_iv *hi, const _cb_iv *c, int d, int stride)
+void _cb_ssi_split_iv(_cb_iv *lo, _cb_iv *hi, const _cb_iv *c, int d, int stride, int dim)
 {
-    _cb_iv w[3 * (CB_MAX_DEGREE + 1)];
+    _cb_iv w[4 * (CB_MAX_DEGREE + 1)];
     const _cb_iv half = {0.5, 0.5};
     for (int k = 0; k <= d; k++)
-        memcpy(w + 3 * k, c + (size_t)k * stride, 3 * sizeof(_cb_iv));
+        memcpy(w + dim * k, c + (size_t)k * stride, (size_t)dim * sizeof(_cb_iv));
     for (int r = 0; r <= d; r++) {
-        memcpy(lo + (size_t)r * stride, w, 3 * sizeof(_cb_iv));
-        memcpy(hi + (size_t)(d - r) * stride, w + 3 * (d - r), 3 * sizeof(_cb_iv));
+        memcpy(lo + (size_t)r * stride, w, (size_t)dim * sizeof(_cb_iv));
+        memcpy(hi + (size_t)(d - r) * stride, w + dim * (d - r), (size_t)dim * sizeof(_cb_iv));
         for (int k = 0; k + r < d; k++)
-            for (int q = 0; q < 3; q++)
-                w[3 * k + q] = _cb_iv_mul(half, _cb_iv_add(w[3 * k + q], w[3 * k + 3 + q]));
+            for (int q = 0; q < dim; q++)
+                w[dim * k + q] =
+                    _cb_iv_mul(half, _cb_iv_add(w[dim * k + q], w[dim * k + dim + q]));
     }
 }
 
@@ -343,8 +411,9 @@ static void cross3(double c[3], const double a[3], const double b[3])
 }
 
 /* 1 when the hulls of the curve piece (nc points) and the surface piece (m, n) are proved
- * apart along the world axes, the surface's corner normal or its in-plane directions. */
-static int hulls_apart(const _cb_iv *cn, int nc, const _cb_iv *sn, int m, int n)
+ * apart along the world axes, the surface's corner normal or its in-plane directions
+ * (Euclidean nets). */
+static int hulls_apart_e(const _cb_iv *cn, int nc, const _cb_iv *sn, int m, int n)
 {
     double cl[3], ch[3], sl[3], sh[3];
     hull(cl, ch, cn, nc);
@@ -371,6 +440,18 @@ static int hulls_apart(const _cb_iv *cn, int nc, const _cb_iv *sn, int m, int n)
     return 0;
 }
 
+/* The same for nets of dc (curve) and ds (surface) values per point; work holds
+ * 3 (nc + (m + 1)(n + 1)) intervals. */
+static int hulls_apart(const _cb_iv *cn, int nc, int dcv, const _cb_iv *sn, int m, int n, int dsv,
+                       _cb_iv *work)
+{
+    if (dcv == 3 && dsv == 3)
+        return hulls_apart_e(cn, nc, sn, m, n);
+    _cb_ssi_net_eucl(work, cn, nc, dcv);
+    _cb_ssi_net_eucl(work + 3 * nc, sn, (m + 1) * (n + 1), dsv);
+    return hulls_apart_e(work, nc, work + 3 * nc, m, n);
+}
+
 int _cb_ssi_edge_roots(_cb_ssi_edge_root *roots, int cap, int *n, const _cb_ssi_bez *C, int dir,
                        double c, double w0, double w1, const _cb_iv *cnet, const _cb_ssi_bez *S,
                        const double box[4], const _cb_iv *snet, int budget)
@@ -381,17 +462,20 @@ int _cb_ssi_edge_roots(_cb_ssi_edge_root *roots, int cap, int *n, const _cb_ssi_
     int dc_ = dir == 0 ? C->n : C->m, nc = dc_ + 1, m = S->m, ns = S->n, np = (m + 1) * (ns + 1);
     enum { MAXSTACK = 200, MAXFOUND = 32 };
     sbox *stack = malloc(MAXSTACK * sizeof(sbox));
-    _cb_iv *pool = malloc((size_t)MAXSTACK * (size_t)(nc + np) * 3 * sizeof(_cb_iv));
+    const int Dc = C->dim, Ds = S->dim;
+    const size_t per = (size_t)(Dc * nc + Ds * np);
+    _cb_iv *pool = malloc((size_t)MAXSTACK * per * sizeof(_cb_iv));
     for (int k = 0; k < MAXSTACK; k++) {
-        stack[k].cn = pool + (size_t)k * (size_t)(nc + np) * 3;
-        stack[k].sn = stack[k].cn + 3 * nc;
+        stack[k].cn = pool + (size_t)k * per;
+        stack[k].sn = stack[k].cn + Dc * nc;
     }
-    _cb_iv *tmp = malloc((size_t)(nc + np) * 3 * sizeof(_cb_iv));
+    _cb_iv *tmp = malloc(per * sizeof(_cb_iv));
+    _cb_iv *hwork = malloc((size_t)(3 * (nc + np)) * sizeof(_cb_iv));
     found fd[MAXFOUND];
     int sp = 0, nf = 0, ok = 1, work = 0;
     memcpy(stack[0].B, D, sizeof D);
-    memcpy(stack[0].cn, cnet, 3 * (size_t)nc * sizeof(_cb_iv));
-    memcpy(stack[0].sn, snet, 3 * (size_t)np * sizeof(_cb_iv));
+    memcpy(stack[0].cn, cnet, (size_t)(Dc * nc) * sizeof(_cb_iv));
+    memcpy(stack[0].sn, snet, (size_t)(Ds * np) * sizeof(_cb_iv));
     sp = 1;
     double dw = fmax(w1 - w0, fmax(box[1] - box[0], box[3] - box[2]));
     while (sp > 0 && ok) {
@@ -402,7 +486,7 @@ int _cb_ssi_edge_roots(_cb_ssi_edge_root *roots, int cap, int *n, const _cb_ssi_
             ok = 0;
             break;
         }
-        if (hulls_apart(top->cn, nc, top->sn, m, ns))
+        if (hulls_apart(top->cn, nc, Dc, top->sn, m, ns, Ds, hwork))
             continue;
         double bw = fmax(iv_w(B[0]), fmax(iv_w(B[1]), iv_w(B[2])));
         if (bw <= dw / 4) {
@@ -488,26 +572,27 @@ int _cb_ssi_edge_roots(_cb_ssi_edge_root *roots, int cap, int *n, const _cb_ssi_
         double h = iv_mid(B[d]);
         sbox *lo = stack + sp, *hi = stack + sp + 1;
         /* top is at index sp (just popped): copy it aside before overwriting. */
-        memcpy(tmp, top->cn, (size_t)(nc + np) * 3 * sizeof(_cb_iv));
-        const _cb_iv *tc = tmp, *ts = tmp + 3 * nc;
+        memcpy(tmp, top->cn, per * sizeof(_cb_iv));
+        const _cb_iv *tc = tmp, *ts = tmp + Dc * nc;
         memcpy(lo->B, B, sizeof B);
         memcpy(hi->B, B, sizeof B);
         lo->B[d].hi = h;
         hi->B[d].lo = h;
         if (d == 0) {
-            _cb_ssi_split_iv(lo->cn, hi->cn, tc, dc_, 3);
-            memcpy(lo->sn, ts, 3 * (size_t)np * sizeof(_cb_iv));
-            memcpy(hi->sn, ts, 3 * (size_t)np * sizeof(_cb_iv));
+            _cb_ssi_split_iv(lo->cn, hi->cn, tc, dc_, Dc, Dc);
+            memcpy(lo->sn, ts, (size_t)(Ds * np) * sizeof(_cb_iv));
+            memcpy(hi->sn, ts, (size_t)(Ds * np) * sizeof(_cb_iv));
         } else {
-            memcpy(lo->cn, tc, 3 * (size_t)nc * sizeof(_cb_iv));
-            memcpy(hi->cn, tc, 3 * (size_t)nc * sizeof(_cb_iv));
+            memcpy(lo->cn, tc, (size_t)(Dc * nc) * sizeof(_cb_iv));
+            memcpy(hi->cn, tc, (size_t)(Dc * nc) * sizeof(_cb_iv));
             if (d == 1)
                 for (int j = 0; j <= ns; j++)
-                    _cb_ssi_split_iv(lo->sn + 3 * j, hi->sn + 3 * j, ts + 3 * j, m, 3 * (ns + 1));
+                    _cb_ssi_split_iv(lo->sn + Ds * j, hi->sn + Ds * j, ts + Ds * j, m,
+                                     Ds * (ns + 1), Ds);
             else
                 for (int i = 0; i <= m; i++)
-                    _cb_ssi_split_iv(lo->sn + 3 * i * (ns + 1), hi->sn + 3 * i * (ns + 1),
-                                     ts + 3 * i * (ns + 1), ns, 3);
+                    _cb_ssi_split_iv(lo->sn + Ds * i * (ns + 1), hi->sn + Ds * i * (ns + 1),
+                                     ts + Ds * i * (ns + 1), ns, Ds, Ds);
         }
         /* Depth first, lower half next. */
         sbox t = stack[sp];
@@ -515,6 +600,7 @@ int _cb_ssi_edge_roots(_cb_ssi_edge_root *roots, int cap, int *n, const _cb_ssi_
         stack[sp + 1] = t;
         sp += 2;
     }
+    free(hwork);
     free(tmp);
     free(pool);
     free(stack);

@@ -15,7 +15,9 @@
 
 typedef struct {
     double box[4];   /* local parameters of the Bezier patch: u0, u1, v0, v1 */
-    _cb_iv *net;     /* 3 (m + 1)(n + 1) enclosures of the sub-patch's control points */
+    _cb_iv *net;     /* dim (m + 1)(n + 1) enclosures of the sub-patch's control points
+                        (homogeneous for a rational patch) */
+    _cb_iv *enet;    /* their Euclidean enclosures, 3 per point (net itself when polynomial) */
     double *nm, *nr; /* Bernstein coefficients of S_u x S_v (in the sub-patch's own
                         parameters): centres (3 each) and radii bounding every component */
     double nsum[3];  /* sum of the centres: a mean normal direction */
@@ -37,12 +39,107 @@ static long binom(int n, int k)
     return r;
 }
 
+/* A scalar polynomial in Bernstein form of bidegree (a, b), coefficients c[i (b + 1) + j]. */
+typedef struct {
+    int a, b;
+    _cb_iv *c;
+} bpoly;
+
+/* out += sg f g (out of bidegree (f.a + g.a, f.b + g.b), already sized): the Bernstein product
+ * c_kl = sum C(a1,i) C(a2,k-i) / C(a1+a2,k) C(b1,j) C(b2,l-j) / C(b1+b2,l) f_ij g_(k-i)(l-j),
+ * the weights enclosed with outward rounding. */
+static void bp_mul_acc(bpoly *out, const bpoly *f, const bpoly *g, int sg)
+{
+    int A = f->a + g->a, B = f->b + g->b;
+    for (int i = 0; i <= f->a; i++)
+        for (int j = 0; j <= f->b; j++)
+            for (int i2 = 0; i2 <= g->a; i2++)
+                for (int j2 = 0; j2 <= g->b; j2++) {
+                    double num = (double)(binom(f->a, i) * binom(g->a, i2)) *
+                                 (double)(binom(f->b, j) * binom(g->b, j2));
+                    double den = (double)binom(A, i + i2) * (double)binom(B, j + j2);
+                    double w = sg * num / den;
+                    _cb_iv wi = {_cb_iv_dn(w), _cb_iv_up(w)};
+                    _cb_iv *o = out->c + (i + i2) * (B + 1) + j + j2;
+                    *o = _cb_iv_add(*o, _cb_iv_mul(wi, _cb_iv_mul(f->c[i * (f->b + 1) + j],
+                                                                   g->c[i2 * (g->b + 1) + j2])));
+                }
+}
+
+static void bp_zero(bpoly *p, int a, int b)
+{
+    p->a = a;
+    p->b = b;
+    for (int k = 0; k < (a + 1) * (b + 1); k++)
+        p->c[k] = _cb_iv_pt(0);
+}
+
+/* Bernstein coefficients of N = w (P_u x P_v) - w_u (P x P_v) - w_v (P_u x P), bidegree
+ * (3m - 1, 3n - 1), for the homogeneous net H (4 per point) of a rational patch: S_u x S_v =
+ * N / w^3 (the constant factors m, n of the derivatives dropped, as they are positive), so N
+ * points along every normal of the patch, which is what the direction test needs. Out:
+ * 3 (3m)(3n) intervals, coefficient (k, l) at 3 (k (3n) + l). */
+static void rational_normals(_cb_iv *out, const _cb_iv *H, int m, int n)
+{
+    bpoly P[4], Pu[4], Pv[4], C[1], N[1];
+    /* One arena: 12 factors of at most (m + 1)(n + 1) coefficients, C of at most
+     * (2m + 1)(2n + 1), N of (3m)(3n). */
+    size_t fs = (size_t)((m + 1) * (n + 1)), cs = (size_t)((2 * m + 1) * (2 * n + 1));
+    _cb_iv *arena = malloc((12 * fs + cs + (size_t)(9 * m * n)) * sizeof(_cb_iv));
+    for (int q = 0; q < 4; q++) {
+        P[q].c = arena + (size_t)q * fs;
+        Pu[q].c = arena + (size_t)(4 + q) * fs;
+        Pv[q].c = arena + (size_t)(8 + q) * fs;
+    }
+    C->c = arena + 12 * fs;
+    N->c = C->c + cs;
+    for (int q = 0; q < 4; q++) {
+        P[q].a = m;
+        P[q].b = n;
+        Pu[q].a = m - 1;
+        Pu[q].b = n;
+        Pv[q].a = m;
+        Pv[q].b = n - 1;
+        for (int i = 0; i <= m; i++)
+            for (int j = 0; j <= n; j++) {
+                P[q].c[i * (n + 1) + j] = H[4 * (i * (n + 1) + j) + q];
+                if (i < m)
+                    Pu[q].c[i * (n + 1) + j] = _cb_iv_sub(H[4 * ((i + 1) * (n + 1) + j) + q],
+                                                          H[4 * (i * (n + 1) + j) + q]);
+                if (j < n)
+                    Pv[q].c[i * n + j] =
+                        _cb_iv_sub(H[4 * (i * (n + 1) + j + 1) + q], H[4 * (i * (n + 1) + j) + q]);
+            }
+    }
+    /* terms (weight factor, left, right) of N = w (Pu x Pv) - w_u (P x Pv) - w_v (Pu x P) */
+    const bpoly *wf[3] = {P + 3, Pu + 3, Pv + 3};
+    const bpoly *lf[3] = {Pu, P, Pu}, *rt[3] = {Pv, Pv, P};
+    const int sg[3] = {1, -1, -1};
+    for (int q = 0; q < 3; q++) {
+        int a = (q + 1) % 3, b = (q + 2) % 3;
+        bp_zero(N, 3 * m - 1, 3 * n - 1);
+        for (int t = 0; t < 3; t++) {
+            /* C = (left x right)_q = left_a right_b - left_b right_a */
+            bp_zero(C, lf[t][0].a + rt[t][0].a, lf[t][0].b + rt[t][0].b);
+            bp_mul_acc(C, lf[t] + a, rt[t] + b, 1);
+            bp_mul_acc(C, lf[t] + b, rt[t] + a, -1);
+            bp_mul_acc(N, wf[t], C, sg[t]);
+        }
+        for (int k = 0; k < 3 * m; k++)
+            for (int l = 0; l < 3 * n; l++)
+                out[3 * (k * 3 * n + l) + q] = N->c[k * (3 * n) + l];
+    }
+    free(arena);
+}
+
 /* Normal coefficients and box of node k from its net. */
 static void node_finish(tree *T, int k)
 {
     node *d = T->nd + k;
     int m = T->b->m, n = T->b->n, nv = n + 1;
-    const _cb_iv *P = d->net;
+    if (T->b->rat)
+        _cb_ssi_net_eucl(d->enet, d->net, (m + 1) * nv, 4);
+    const _cb_iv *P = d->enet;
     for (int q = 0; q < 3; q++) {
         d->lo[q] = HUGE_VAL;
         d->hi[q] = -HUGE_VAL;
@@ -55,9 +152,11 @@ static void node_finish(tree *T, int k)
     d->size = sqrt((d->hi[0] - d->lo[0]) * (d->hi[0] - d->lo[0]) +
                    (d->hi[1] - d->lo[1]) * (d->hi[1] - d->lo[1]) +
                    (d->hi[2] - d->lo[2]) * (d->hi[2] - d->lo[2]));
-    int K = 2 * m, L = 2 * n;
+    int K = (T->b->rat ? 3 : 2) * m, L = (T->b->rat ? 3 : 2) * n;
     _cb_iv *N = calloc((size_t)(3 * K * L), sizeof(_cb_iv));
-    for (int i = 0; i < m; i++)
+    if (T->b->rat)
+        rational_normals(N, d->net, m, n);
+    for (int i = 0; i < m && !T->b->rat; i++)
         for (int j = 0; j <= n; j++) {
             _cb_iv A[3];
             for (int q = 0; q < 3; q++)
@@ -107,7 +206,8 @@ static int node_add(tree *T)
     node *d = T->nd + T->n;
     memset(d, 0, sizeof(*d));
     int np = (T->b->m + 1) * (T->b->n + 1);
-    d->net = malloc((size_t)(3 * np) * sizeof(_cb_iv));
+    d->net = malloc((size_t)(T->b->dim * np) * sizeof(_cb_iv));
+    d->enet = T->b->rat ? malloc((size_t)(3 * np) * sizeof(_cb_iv)) : d->net;
     d->nm = malloc((size_t)(3 * T->nn) * sizeof(double));
     d->nr = malloc((size_t)T->nn * sizeof(double));
     for (int c = 0; c < 4; c++)
@@ -119,12 +219,12 @@ static void tree_init(tree *T, const _cb_ssi_bez *b)
 {
     memset(T, 0, sizeof(*T));
     T->b = b;
-    T->nn = 4 * b->m * b->n;
+    T->nn = (b->rat ? 9 : 4) * b->m * b->n;
     int k = node_add(T);
     node *d = T->nd + k;
     const double box[4] = {0, 1, 0, 1};
     memcpy(d->box, box, sizeof box);
-    for (int i = 0; i < 3 * (b->m + 1) * (b->n + 1); i++)
+    for (int i = 0; i < b->dim * (b->m + 1) * (b->n + 1); i++)
         d->net[i] = _cb_iv_pt(b->pts[i]);
     node_finish(T, k);
 }
@@ -132,6 +232,8 @@ static void tree_init(tree *T, const _cb_ssi_bez *b)
 static void tree_clear(tree *T)
 {
     for (int k = 0; k < T->n; k++) {
+        if (T->nd[k].enet != T->nd[k].net)
+            free(T->nd[k].enet);
         free(T->nd[k].net);
         free(T->nd[k].nm);
         free(T->nd[k].nr);
@@ -144,11 +246,11 @@ static void node_split(tree *T, int k)
 {
     if (T->nd[k].child[0] >= 0)
         return;
-    int m = T->b->m, n = T->b->n, nv = n + 1, np = (m + 1) * nv;
-    _cb_iv *ulo = malloc((size_t)(3 * np) * sizeof(_cb_iv)),
-           *uhi = malloc((size_t)(3 * np) * sizeof(_cb_iv));
+    int m = T->b->m, n = T->b->n, nv = n + 1, np = (m + 1) * nv, D = T->b->dim;
+    _cb_iv *ulo = malloc((size_t)(D * np) * sizeof(_cb_iv)),
+           *uhi = malloc((size_t)(D * np) * sizeof(_cb_iv));
     for (int j = 0; j <= n; j++)
-        _cb_ssi_split_iv(ulo + 3 * j, uhi + 3 * j, T->nd[k].net + 3 * j, m, 3 * nv);
+        _cb_ssi_split_iv(ulo + D * j, uhi + D * j, T->nd[k].net + D * j, m, D * nv, D);
     for (int h = 0; h < 2; h++) {
         const _cb_iv *half = h ? uhi : ulo;
         for (int g = 0; g < 2; g++) {
@@ -161,14 +263,14 @@ static void node_split(tree *T, int k)
             d->box[1] = h ? par->box[1] : um;
             d->box[2] = g ? vm : par->box[2];
             d->box[3] = g ? par->box[3] : vm;
-            _cb_iv *tmp = malloc((size_t)(3 * np) * sizeof(_cb_iv));
+            _cb_iv *tmp = malloc((size_t)(D * np) * sizeof(_cb_iv));
             for (int i = 0; i <= m; i++) {
                 if (g)
-                    _cb_ssi_split_iv(tmp + 3 * i * nv, d->net + 3 * i * nv, half + 3 * i * nv, n,
-                                     3);
+                    _cb_ssi_split_iv(tmp + D * i * nv, d->net + D * i * nv, half + D * i * nv, n,
+                                     D, D);
                 else
-                    _cb_ssi_split_iv(d->net + 3 * i * nv, tmp + 3 * i * nv, half + 3 * i * nv, n,
-                                     3);
+                    _cb_ssi_split_iv(d->net + D * i * nv, tmp + D * i * nv, half + D * i * nv, n,
+                                     D, D);
             }
             free(tmp);
             node_finish(T, c);
@@ -220,7 +322,7 @@ static int edge_separated(const node *c, int m, int n, int side, const node *s,
     int cnt = side < 2 ? n + 1 : m + 1;
     for (int k = 0; k < cnt; k++) {
         int i = side == 0 ? 0 : side == 1 ? m : k, j = side == 2 ? 0 : side == 3 ? n : k;
-        const _cb_iv *p = c->net + 3 * (i * (n + 1) + j);
+        const _cb_iv *p = c->enet + 3 * (i * (n + 1) + j);
         for (int q = 0; q < 3; q++) {
             t.lo[q] = fmin(t.lo[q], p[q].lo);
             t.hi[q] = fmax(t.hi[q], p[q].hi);
@@ -316,8 +418,8 @@ static int boundary_points(bpt *out, const _cb_ssi_bez *P, const _cb_ssi_bez *Q,
             double c = cn->box[side];
             double w0 = dir == 0 ? cn->box[2] : cn->box[0], w1 = dir == 0 ? cn->box[3] : cn->box[1];
             _cb_ssi_edge_root r[MAX_BPTS];
-            _cb_iv cnet[3 * (CB_MAX_DEGREE + 1)];
-            int nc = dir == 0 ? C->n + 1 : C->m + 1;
+            _cb_iv cnet[4 * (CB_MAX_DEGREE + 1)];
+            int nc = dir == 0 ? C->n + 1 : C->m + 1, D = C->dim;
             for (int k = 0; k < nc; k++) {
                 int i = side == 0   ? 0
                         : side == 1 ? C->m
@@ -325,7 +427,8 @@ static int boundary_points(bpt *out, const _cb_ssi_bez *P, const _cb_ssi_bez *Q,
                     j = side == 2   ? 0
                         : side == 3 ? C->n
                                     : k;
-                memcpy(cnet + 3 * k, cn->net + 3 * (i * (C->n + 1) + j), 3 * sizeof(_cb_iv));
+                memcpy(cnet + D * k, cn->net + D * (i * (C->n + 1) + j),
+                       (size_t)D * sizeof(_cb_iv));
             }
             int n = 0;
             if (!_cb_ssi_edge_roots(r, MAX_BPTS, &n, C, dir, c, w0, w1, cnet, S, sn->box, sn->net,

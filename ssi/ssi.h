@@ -27,11 +27,25 @@
  * the single branch such a pair holds (if any) is fixed by certified boundary/surface roots and
  * marched in the height e . X. Sub-pairs left at the floor (tangency, near-tangency, singular
  * points, surfaces closer than round-off without meeting) are listed in r->failed with their
- * parameter boxes; the certified branches of the same patch pair are still output. Only
- * polynomial (non-rational) patches take this route; rational ones stay unsupported.
+ * parameter boxes; the certified branches of the same patch pair are still output. Rational
+ * patches take it too (normal cones from w (P_u x P_v) - w_u (P x P_v) - w_v (P_u x P), hulls of
+ * the Euclidean control points, positive weights). A rational P patch of degree <= 2 is
+ * implicitised first and keeps the algebraic route when its implicit degree fell below 2 m n
+ * (exact conic weights such as 1, 1, 2 have base points: a cylinder or sphere piece gives 2);
+ * with rounded weights (sqrt(2)/2) it takes the subdivision route.
+ *
+ * Analytic/analytic pairs (ssi_analytic.c): closed forms for the special positions (planes,
+ * parallel or coaxial or tangent cylinders, coaxial surfaces of revolution incl. every
+ * plane/sphere and sphere/sphere pair, planes through a cone's apex, touching points), decided
+ * within tol (distances) and tol / size (directions); the rest by the general route: one
+ * surface as its exact rational B-spline against the other's implicit equation (the
+ * analytic/NURBS pipeline, certified topology), parameters mapped back to the analytic surface.
+ *
+ * Surfaces that coincide (within tol, or exactly phi = 0) give no curves but a
+ * cb_ssi_coincident record with the orientation of their normals.
  *
  * What is not done: trimming loops of faces (curves are clipped to the faces' parameter boxes),
- * analytic/analytic pairs, surfaces of revolution and extrusion. */
+ * surfaces of revolution and extrusion. */
 #ifndef CB_SSI_SSI_H
 #define CB_SSI_SSI_H
 
@@ -122,6 +136,33 @@ typedef struct {
     double box_a[4], box_b[4]; /* {u0, u1, v0, v1} in the surfaces' parameters */
 } cb_ssi_failure;
 
+/* Two faces (surfaces) that lie on one surface, so that they share a 2D region or could: no
+ * curve is output for them (their common boundary is the trimming of one face by the other,
+ * the Boolean stage's business). One record per call of cb_ssi_surfaces (per face pair in
+ * cb_ssi_bodies) in which some patch pair was found to lie on one surface:
+ *   analytic/analytic: the same surface within tol (same kind; planes: normals parallel within
+ *     tol / size and offset within tol; cylinders, cones, tori, spheres: axis, centre or apex
+ *     and radii within tol; others: a 7 x 7 grid of points of each within tol of the other);
+ *   a patch pair of the algebraic route: phi = F(Q) identically zero (exact), or every point of
+ *     a 5 x 5 grid of Q's patch within tol of P's surface (first-order distance |F| / |grad F|);
+ *   a patch pair of the subdivision route: a 5 x 5 grid of Q's patch within tol of P's patch
+ *     continued (its polynomial or rational map over local parameters [-1, 2]^2, which stays
+ *     on P's algebraic surface).
+ * The records do not say whether the faces' regions overlap: two disjoint discs of one plane
+ * are listed too. Orientation: same_normal = 1 when the surface normals S_u x S_v of A and B
+ * point the same way at xyz (a point of both), 0 when they are opposite; same_face_normal is
+ * the same comparison for the face normals (S_u x S_v times the face's same_sense: -1 when 0),
+ * filled by cb_ssi_bodies (equal to same_normal for cb_ssi_surfaces). */
+typedef struct {
+    int face_a, face_b;
+    int patch_a, patch_b; /* the patch pair whose normals were compared (-1: analytic side) */
+    slong patch_pairs;    /* patch pairs of the two surfaces found on one surface */
+    int whole;            /* 1: every patch pair examined (not culled) lies on one surface;
+                             0: some did not, and their curves are output as usual */
+    int same_normal, same_face_normal;
+    double xyz[3];
+} cb_ssi_coincident;
+
 typedef struct {
     slong n_curves, alloc_curves;
     cb_ssi_curve *curve;
@@ -129,6 +170,8 @@ typedef struct {
     cb_ssi_isolated *point;
     slong n_failed, alloc_failed;
     cb_ssi_failure *failed;
+    slong n_coincident, alloc_coincident;
+    cb_ssi_coincident *coincident;
 
     cb_status status;       /* CB_OK when every patch pair was certified, else the status of
                                the first failure (in pair order) */
@@ -139,6 +182,10 @@ typedef struct {
     slong pairs_subdivided; /* patch pairs taken by the subdivision route (a subset of
                                pairs_total; certified ones are counted in pairs_certified) */
     slong subpairs;         /* sub-patch pairs the subdivision route examined */
+    slong pairs_coincident; /* patch (or analytic surface) pairs found on one surface; counted
+                               in pairs_certified too */
+    slong pairs_closed_form; /* analytic/analytic pairs decided by a closed form (counted in
+                                pairs_certified; the others took the general route) */
     double tol;             /* tolerance used */
     double max_dist_a, max_dist_b; /* largest distance of an output point to A and to B */
     double time_topo, time_trace;  /* seconds summed over patch pairs (all threads) */
@@ -153,18 +200,22 @@ void cb_ssi_result_clear(cb_ssi_result_t r);
 /* Intersection of A and B (whole surfaces; an analytic one restricted to its range), appended
  * to r with face_a = face_a, face_b = face_b (pass -1, -1 outside a body). Supported pairs:
  * analytic/NURBS either way round, NURBS/NURBS (the side of lower patch bidegree product is
- * implicitised per patch; a planar patch by its plane). Analytic/analytic is refused with
- * CB_ERR_UNSUPPORTED. Returns CB_OK even when some patch pairs are not certified (see
- * r->status and r->failed); an error return (invalid input, no memory) leaves r's earlier
- * content and adds nothing. The counters of r are added to. */
+ * implicitised per patch; a planar patch by its exact plane), analytic/analytic (closed forms
+ * or the general route, see above; at most one of the two may have an unbounded range: it is
+ * limited to the other's box; both unbounded is CB_ERR_INVALID). Curves of the closed forms are
+ * clipped to both ranges with a slack of 1e-12 times the size (a curve on a range's end is
+ * kept) and pieces shorter than 10 tol are dropped. Returns CB_OK even when some patch pairs
+ * are not certified (see r->status and r->failed); an error return (invalid input, no memory)
+ * leaves r's earlier content and adds nothing. The counters of r are added to. */
 cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_ssi_surface *B,
                           int face_a, int face_b, const cb_ssi_opts *opts, cb_error *err);
 
 /* Every face of a against every face of b whose boxes overlap (AABB of the surface geometry
  * over the face's parameter box, grown by the tolerance). Analytic faces are bounded by the
  * parameter box of their edges (sampled and inverted); the curves are not clipped to trimming
- * loops. Face pairs that cannot be intersected (analytic/analytic, revolution, extrusion) are
- * listed in r->failed with patch indices -1. With opts->tol <= 0 the tolerance is 1e-6 times
+ * loops. Face pairs that cannot be intersected (revolution, extrusion) are listed in r->failed
+ * with patch indices -1. Coincident face pairs get same_face_normal from the faces'
+ * same_sense. With opts->tol <= 0 the tolerance is 1e-6 times
  * the diagonal of the box of both bodies. Face pairs run in parallel on opts->threads (each
  * serial inside) and are combined in face-pair order. */
 cb_status cb_ssi_bodies(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_body *b,
@@ -231,6 +282,14 @@ void _cb_ssi_sqf_init(_cb_ssi_sqf *h);
 void _cb_ssi_sqf_clear(_cb_ssi_sqf *h);
 void _cb_ssi_sqf_set(_cb_ssi_sqf *h, const fmpz_mpoly_t phi, const fmpz_mpoly_ctx_t ctx);
 
+/* Sharpens the double t of the vertices of T whose certified t-box is not a point (the topology
+ * stage leaves such boxes as wide as their certification needed, up to a quarter of the box):
+ * a simple root by bisection of h(s, .) over the box (it changes sign once there); a multiple
+ * one (fold, cusp, isolated point) by bisection of h_t, or golden-section search for the least
+ * |h| when h_t keeps its sign. The tracer starts and ends edges at these coordinates; a vertex
+ * left at its box's midpoint put a spike into curves whose branch is steep there. */
+void _cb_ssi_vertex_refine(cb_ctopo_t T, const _cb_ssi_sqf *h);
+
 /* Sorted distinct real roots of sum_j a[j] t^j (j <= deg) in [0, 1], at most deg of them
  * (none for a constant). Method: the roots of the derivative (recursively) cut [0, 1] into
  * monotone pieces; a piece holds a root where its end values change sign (bisection to
@@ -290,6 +349,19 @@ void _cb_ssi_clip(_cb_ssi_piece_set *out, const _cb_ssi_trace_set *ts,
  * depends only on the order of sets. */
 void _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong nsets, int swapped,
                     int face_a, int face_b, double merge_tol, double chord);
+
+/* Appends a coincidence record (patch_pairs 1, whole 1, same_face_normal = same_normal). */
+cb_ssi_coincident *_cb_ssi_add_coincident(cb_ssi_result_t r, int fa, int fb, int pa, int pb,
+                                          int same_normal, const double xyz[3]);
+
+/* Appends everything s holds to r (curves, points, failures, coincidence records; counters
+ * added, distances maxed) and leaves s without them. */
+void _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s);
+
+/* Two analytic surfaces (ssi_analytic.c; see cb_ssi_surfaces). */
+cb_status _cb_ssi_analytic_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
+                                const cb_ssi_surface *B, int face_a, int face_b,
+                                const cb_ssi_opts *opts, cb_error *err);
 
 /* Appends a failure record to r (and sets r->status if it was CB_OK). */
 void _cb_ssi_add_failure(cb_ssi_result_t r, int fa, int fb, int pa, int pb, cb_status st,

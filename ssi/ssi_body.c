@@ -12,7 +12,8 @@
 #define EDGE_SAMPLES 17
 
 /* The face's surface as an SSI input; an analytic face is bounded by the parameter box of its
- * edges (u unwrapped along each loop; a span of a whole turn or more is the full turn).
+ * edges (an angle by the shortest arc holding its samples; a seam, or a span of a whole turn
+ * or more, makes it the full turn).
  * Returns 0 for surface kinds the driver does not take. */
 static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
 {
@@ -24,9 +25,11 @@ static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
     if (ts->kind != CB_SURFACE_ANALYTIC)
         return 0;
     const cb_analytic_surface *a = &ts->analytic;
-    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL}, prev[2] = {0, 0};
-    int have = 0;
+    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
+    int have = 0, periodic[2] = {a->kind != CB_ANALYTIC_PLANE, a->kind == CB_ANALYTIC_TORUS};
     const cb_topo_face *f = b->faces + face;
+    slong ns = 0, nalloc = 0;
+    double *ang = NULL; /* angles of the periodic directions, 2 per sample, in [0, 2 pi) */
     for (int l = f->first; l < f->first + f->count; l++) {
         const cb_topo_loop *lp = b->loops + l;
         for (int c = lp->first; c < lp->first + lp->count; c++) {
@@ -35,24 +38,84 @@ static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
                 double t = e->t0 + (e->t1 - e->t0) * k / (EDGE_SAMPLES - 1), X[3], uv[2];
                 cb_topo_curve_eval(X, b->curves + e->curve, t);
                 _cb_ssi_analytic_invert(uv, a, X);
-                int periodic[2] = {a->kind != CB_ANALYTIC_PLANE, a->kind == CB_ANALYTIC_TORUS};
-                for (int d = 0; d < 2; d++) {
-                    if (periodic[d] && have)
-                        uv[d] += 2 * CB_SSI_PI * nearbyint((prev[d] - uv[d]) / (2 * CB_SSI_PI));
-                    lo[d] = fmin(lo[d], uv[d]);
-                    hi[d] = fmax(hi[d], uv[d]);
-                    prev[d] = uv[d];
+                if (ns == nalloc) {
+                    nalloc = nalloc ? 2 * nalloc : 64;
+                    ang = realloc(ang, (size_t)(2 * nalloc) * sizeof(double));
                 }
+                for (int d = 0; d < 2; d++) {
+                    if (periodic[d]) {
+                        ang[2 * ns + d] = fmod(fmod(uv[d], 2 * CB_SSI_PI) + 2 * CB_SSI_PI,
+                                               2 * CB_SSI_PI);
+                    } else {
+                        lo[d] = fmin(lo[d], uv[d]);
+                        hi[d] = fmax(hi[d], uv[d]);
+                    }
+                }
+                ns++;
                 have = 1;
             }
         }
     }
+    /* A periodic direction spans the shortest arc holding every sample: the complement of the
+     * largest gap between consecutive sorted angles (robust where samples straddle the branch
+     * cut at +-pi, which an unwrapping along the loop could resolve the wrong way). */
+    for (int d = 0; d < 2 && have; d++) {
+        if (!periodic[d])
+            continue;
+        double *x = malloc((size_t)ns * sizeof(double));
+        for (slong k = 0; k < ns; k++)
+            x[k] = ang[2 * k + d];
+        for (slong i = 1; i < ns; i++) /* insertion sort: a few hundred samples */
+            for (slong j = i; j > 0 && x[j - 1] > x[j]; j--) {
+                double tmp = x[j];
+                x[j] = x[j - 1];
+                x[j - 1] = tmp;
+            }
+        double gap = x[0] + 2 * CB_SSI_PI - x[ns - 1];
+        lo[d] = x[0];
+        hi[d] = x[ns - 1];
+        for (slong k = 0; k + 1 < ns; k++)
+            if (x[k + 1] - x[k] > gap) {
+                gap = x[k + 1] - x[k];
+                lo[d] = x[k + 1];
+                hi[d] = x[k] + 2 * CB_SSI_PI;
+            }
+        free(x);
+    }
+    free(ang);
     if (!have)
         return 0;
+    /* A seam (an edge used twice by the face) runs along a periodic direction's constant
+     * parameter: the face goes once around in that direction, whatever its other edges span
+     * (a sphere bounded by its seam alone). */
+    int around[2] = {0, 0};
+    for (int l = f->first; l < f->first + f->count; l++) {
+        const cb_topo_loop *lp = b->loops + l;
+        for (int c = lp->first; c < lp->first + lp->count; c++) {
+            int e = b->coedges[c].edge, uses = 0;
+            for (int l2 = f->first; l2 < f->first + f->count; l2++)
+                for (int c2 = b->loops[l2].first; c2 < b->loops[l2].first + b->loops[l2].count;
+                     c2++)
+                    uses += b->coedges[c2].edge == e;
+            if (uses < 2)
+                continue;
+            const cb_topo_edge *ed = b->edges + e;
+            double slo[2] = {HUGE_VAL, HUGE_VAL}, shi[2] = {-HUGE_VAL, -HUGE_VAL};
+            for (int k = 1; k + 1 < EDGE_SAMPLES; k++) {
+                double t = ed->t0 + (ed->t1 - ed->t0) * k / (EDGE_SAMPLES - 1), X[3], uv[2];
+                cb_topo_curve_eval(X, b->curves + ed->curve, t);
+                _cb_ssi_analytic_invert(uv, a, X);
+                for (int d = 0; d < 2; d++) {
+                    slo[d] = fmin(slo[d], uv[d]);
+                    shi[d] = fmax(shi[d], uv[d]);
+                }
+            }
+            around[shi[0] - slo[0] > shi[1] - slo[1] ? 1 : 0] = 1;
+        }
+    }
     double range[4] = {lo[0], hi[0], lo[1], hi[1]};
-    int periodic[2] = {a->kind != CB_ANALYTIC_PLANE, a->kind == CB_ANALYTIC_TORUS};
     for (int d = 0; d < 2; d++)
-        if (periodic[d] && hi[d] - lo[d] >= 2 * CB_SSI_PI - 1e-6) {
+        if (periodic[d] && (around[d] || hi[d] - lo[d] >= 2 * CB_SSI_PI - 1e-6)) {
             range[2 * d] = lo[d];
             range[2 * d + 1] = lo[d] + 2 * CB_SSI_PI;
         }
@@ -114,46 +177,6 @@ static void fbody(void *vctx, size_t begin, size_t end)
     }
 }
 
-/* Appends the content of s to r (s keeps nothing that r owns). */
-static void result_move(cb_ssi_result_t r, cb_ssi_result_t s)
-{
-    if (s->n_curves) {
-        if (r->n_curves + s->n_curves > r->alloc_curves) {
-            r->alloc_curves = FLINT_MAX(2 * r->alloc_curves, r->n_curves + s->n_curves);
-            r->curve = realloc(r->curve, (size_t)r->alloc_curves * sizeof(*r->curve));
-        }
-        memcpy(r->curve + r->n_curves, s->curve, (size_t)s->n_curves * sizeof(*s->curve));
-        r->n_curves += s->n_curves;
-        s->n_curves = 0;
-    }
-    if (s->n_points) {
-        if (r->n_points + s->n_points > r->alloc_points) {
-            r->alloc_points = FLINT_MAX(2 * r->alloc_points, r->n_points + s->n_points);
-            r->point = realloc(r->point, (size_t)r->alloc_points * sizeof(*r->point));
-        }
-        memcpy(r->point + r->n_points, s->point, (size_t)s->n_points * sizeof(*s->point));
-        r->n_points += s->n_points;
-    }
-    for (slong k = 0; k < s->n_failed; k++) {
-        const cb_ssi_failure *f = s->failed + k;
-        _cb_ssi_add_failure(r, f->face_a, f->face_b, f->patch_a, f->patch_b, f->status, f->msg);
-        cb_ssi_failure *g = r->failed + r->n_failed - 1;
-        g->has_box = f->has_box;
-        memcpy(g->box_a, f->box_a, sizeof g->box_a);
-        memcpy(g->box_b, f->box_b, sizeof g->box_b);
-    }
-    r->pairs_total += s->pairs_total;
-    r->pairs_culled += s->pairs_culled;
-    r->pairs_empty += s->pairs_empty;
-    r->pairs_certified += s->pairs_certified;
-    r->pairs_subdivided += s->pairs_subdivided;
-    r->subpairs += s->subpairs;
-    r->max_dist_a = fmax(r->max_dist_a, s->max_dist_a);
-    r->max_dist_b = fmax(r->max_dist_b, s->max_dist_b);
-    r->time_topo += s->time_topo;
-    r->time_trace += s->time_trace;
-}
-
 cb_status cb_ssi_bodies(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_body *b,
                         const cb_ssi_opts *opts, cb_error *err)
 {
@@ -204,10 +227,6 @@ cb_status cb_ssi_bodies(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_
                                                    : b->surfaces + b->faces[j].surface;
                 snprintf(F->msg, sizeof F->msg, "face of a %s surface is not handled",
                          cb_topo_surface_type_name(s));
-            } else if (sa[i].kind == CB_SSI_ANALYTIC && sb[j].kind == CB_SSI_ANALYTIC) {
-                snprintf(F->msg, sizeof F->msg, "analytic/analytic pair (%s, %s) is not handled",
-                         cb_analytic_kind_name(sa[i].analytic.kind),
-                         cb_analytic_kind_name(sb[j].analytic.kind));
             } else {
                 F->run = 1;
             }
@@ -229,8 +248,15 @@ cb_status cb_ssi_bodies(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_
                 *err = F->err;
             cb_error_prefix(err, "faces %d, %d: ", F->i, F->j);
         }
-        if (st == CB_OK && F->run)
-            result_move(r, F->r);
+        if (st == CB_OK && F->run) {
+            /* Face normals of coincident faces: the surface normals times same_sense. */
+            for (slong c = 0; c < F->r->n_coincident; c++) {
+                cb_ssi_coincident *cr = F->r->coincident + c;
+                int flip = (a->faces[F->i].same_sense != 0) != (b->faces[F->j].same_sense != 0);
+                cr->same_face_normal = flip ? !cr->same_normal : cr->same_normal;
+            }
+            _cb_ssi_result_move(r, F->r);
+        }
         cb_ssi_result_clear(F->r);
     }
     free(fp);

@@ -84,6 +84,22 @@ static void aabb_add_net(cb_aabb *box, const cb_nurbs_surface_struct *s)
     }
 }
 
+static void cross3(double c[3], const double a[3], const double b[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* 1 when the patch's weights are not all equal. */
+static int patch_rational(const cb_nurbs_surface_struct *s)
+{
+    for (int k = 1; k < s->n_u * s->n_v; k++)
+        if (s->cw[4 * k + 3] != s->cw[3])
+            return 1;
+    return 0;
+}
+
 /* ---------------------------------------------------------------- per P patch -------------- */
 
 typedef struct {
@@ -101,43 +117,92 @@ typedef struct {
     cb_nurbs_surface_struct *patches;
 } p_ctx;
 
-/* Implicit equation of one P patch; a planar patch (no Dixon pencil) gets its plane. */
+/* Relative flatness below which a patch counts as planar: its control points within this
+ * times the diagonal of their box from the plane through three of its corners (a planar face
+ * after a rotation is off by round-off, about 1e-16; its Dixon equation would be a
+ * hyperbolic paraboloid of the patch's noise, and the inversion that clips to it
+ * ill-conditioned). */
+#define NEAR_PLANAR 1e-12
+
+/* The plane through the three corners of the patch spanning the largest triangle, when every
+ * control point is within NEAR_PLANAR of it; 0 otherwise. */
+static int near_planar(cb_implicit_t F, const cb_nurbs_surface_struct *patch)
+{
+    int nu = patch->n_u, nv = patch->n_v, np = nu * nv;
+    const int corner[4] = {0, nv - 1, (nu - 1) * nv, np - 1};
+    double X[4][3], lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL};
+    double hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (int k = 0; k < np; k++)
+        for (int q = 0; q < 3; q++) {
+            double x = patch->cw[4 * k + q] / patch->cw[4 * k + 3];
+            lo[q] = fmin(lo[q], x);
+            hi[q] = fmax(hi[q], x);
+        }
+    for (int c = 0; c < 4; c++)
+        for (int q = 0; q < 3; q++)
+            X[c][q] = patch->cw[4 * corner[c] + q] / patch->cw[4 * corner[c] + 3];
+    double best = 0, n[3] = {0, 0, 0};
+    int skip = -1;
+    for (int s = 0; s < 4; s++) {
+        int i[3], m = 0;
+        for (int c = 0; c < 4; c++)
+            if (c != s)
+                i[m++] = c;
+        double a[3], b[3], cr[3];
+        for (int q = 0; q < 3; q++) {
+            a[q] = X[i[1]][q] - X[i[0]][q];
+            b[q] = X[i[2]][q] - X[i[0]][q];
+        }
+        cross3(cr, a, b);
+        double l = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+        if (l > best) {
+            best = l;
+            skip = s;
+            for (int q = 0; q < 3; q++)
+                n[q] = cr[q] / l;
+        }
+    }
+    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    if (skip < 0 || !(best > 0) || !(diag > 0))
+        return 0;
+    const double *o = X[skip == 0 ? 1 : 0];
+    for (int k = 0; k < np; k++) {
+        double d = 0;
+        for (int q = 0; q < 3; q++)
+            d += n[q] * (patch->cw[4 * k + q] / patch->cw[4 * k + 3] - o[q]);
+        if (!(fabs(d) <= NEAR_PLANAR * diag))
+            return 0;
+    }
+    double h[3][4];
+    int m = 0;
+    for (int c = 0; c < 4; c++)
+        if (c != skip) {
+            memcpy(h[m], patch->cw + 4 * corner[c], 4 * sizeof(double));
+            m++;
+        }
+    return cb_implicit_plane_through(F, (const double(*)[4])h, NULL) == CB_OK;
+}
+
+/* Implicit equation of one P patch; a planar patch (no Dixon pencil) gets its exact plane, a
+ * patch planar up to round-off the plane through three of its corners. */
 static void p_side_run(p_side *ps, const cb_nurbs_surface_struct *patch)
 {
     cb_error err;
     cb_error_clear(&err);
     ps->st = cb_dixon_patch_set_bezier(ps->dp, patch, &err);
+    if (ps->st == CB_OK && near_planar(ps->F, patch))
+        return;
     if (ps->st == CB_OK) {
         ps->st = cb_dixon_pencil_set(ps->pencil, ps->dp, &err);
         if (ps->st == CB_OK) {
             ps->has_pencil = 1;
             ps->st = cb_implicit_from_dixon(ps->F, ps->pencil, ps->dp, &err);
         } else if (ps->st == CB_ERR_UNSUPPORTED) {
-            int m = patch->deg_u, n = patch->deg_v;
-            double c[4][3];
-            const int idx[4][2] = {{0, 0}, {m, 0}, {0, n}, {m, n}};
-            for (int k = 0; k < 4; k++) {
-                const double *w = cb_nurbs_surface_cw(patch, idx[k][0], idx[k][1]);
-                for (int q = 0; q < 3; q++)
-                    c[k][q] = w[q] / w[3];
-            }
-            double d1[3], d2[3], nrm[3], o[3];
-            for (int q = 0; q < 3; q++) {
-                d1[q] = c[3][q] - c[0][q];
-                d2[q] = c[2][q] - c[1][q];
-                o[q] = 0.25 * (c[0][q] + c[1][q] + c[2][q] + c[3][q]);
-            }
-            nrm[0] = d1[1] * d2[2] - d1[2] * d2[1];
-            nrm[1] = d1[2] * d2[0] - d1[0] * d2[2];
-            nrm[2] = d1[0] * d2[1] - d1[1] * d2[0];
-            cb_frame f;
-            cb_analytic_surface pl;
+            /* A planar patch: its exact plane (rounding it would tilt a curve lying on a side
+             * of Q's patch box off that side, and the clipped pieces would fall apart). */
             cb_error_clear(&err);
-            ps->st = cb_frame_make(&f, o, nrm, NULL, &err);
-            if (ps->st == CB_OK)
-                ps->st = cb_analytic_plane(&pl, &f, &err);
-            if (ps->st == CB_OK)
-                ps->st = cb_implicit_from_analytic(ps->F, &pl, &err);
+            ps->st = cb_implicit_from_plane_patch(ps->F, ps->dp, &err);
         }
     }
     if (ps->st != CB_OK)
@@ -160,6 +225,9 @@ typedef struct {
     char msg[200];
     int empty;
     int spline; /* subdivision route; pieces already in the surfaces' domains */
+    int probe;  /* rational P patch over the degree bound: implicitise first, then choose */
+    int coincident, same_normal; /* the patches lie on one surface; normals agree at cxyz */
+    double cxyz[3], cdist;       /* cdist: distance of cxyz from P's patch */
     _cb_ssi_spline_stats sst;
     _cb_ssi_piece_set pieces;
     double t_topo, t_trace;
@@ -176,7 +244,211 @@ typedef struct {
     double tol, chord, max_seg;
 } pair_ctx;
 
-/* The subdivision route for one polynomial patch pair (ssi/spline.h). */
+/* ---------------------------------------------------------------- coincident patches ------ */
+
+/* First-order distance |F(X)| / |grad F(X)| of X from the surface F = 0 (0 where F vanishes,
+ * infinite where only the gradient does). */
+static double implicit_dist(const cb_implicit_struct *F, const double X[3])
+{
+    cb_poly3_struct p = {(int)F->deg, F->cd};
+    double g[3], f = cb_poly3_eval_grad(g, &p, X);
+    if (f == 0)
+        return 0;
+    double gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    return gn > 0 ? fabs(f) / gn : HUGE_VAL;
+}
+
+/* Point k of the 5 x 5 grid of a Bezier patch's domain, the centre first. */
+static void grid_param(double uv[2], const cb_nurbs_surface_struct *pat, int k)
+{
+    double d[4];
+    cb_nurbs_surface_domain(pat, d);
+    int g = (k + 12) % 25;
+    uv[0] = d[0] + (d[1] - d[0]) * (g / 5) / 4.0;
+    uv[1] = d[2] + (d[3] - d[2]) * (g % 5) / 4.0;
+}
+
+/* Distance from X to the Bezier patch pat, and the parameters uv of the nearest point found:
+ * the nearest of a 9 x 9 grid (or uv itself when warm), then Gauss-Newton clamped to the
+ * domain (at most 30 steps, each kept only when the distance drops). An upper bound on the
+ * distance to the patch. */
+static double patch_project(double uv[2], const cb_nurbs_surface_struct *pat, const double X[3],
+                            int warm)
+{
+    double d[4], P[3], best = HUGE_VAL;
+    cb_nurbs_surface_domain(pat, d);
+    if (!warm)
+        for (int i = 0; i <= 8; i++)
+            for (int j = 0; j <= 8; j++) {
+                double u = d[0] + (d[1] - d[0]) * i / 8.0, v = d[2] + (d[3] - d[2]) * j / 8.0;
+                cb_nurbs_surface_eval(P, pat, u, v);
+                double e = (P[0] - X[0]) * (P[0] - X[0]) + (P[1] - X[1]) * (P[1] - X[1]) +
+                           (P[2] - X[2]) * (P[2] - X[2]);
+                if (e < best) {
+                    best = e;
+                    uv[0] = u;
+                    uv[1] = v;
+                }
+            }
+    double D[6][3];
+    cb_nurbs_surface_eval_derivs(D, pat, uv[0], uv[1]);
+    best = (D[0][0] - X[0]) * (D[0][0] - X[0]) + (D[0][1] - X[1]) * (D[0][1] - X[1]) +
+           (D[0][2] - X[2]) * (D[0][2] - X[2]);
+    for (int it = 0; it < 30 && best > 0; it++) {
+        double a = 0, b = 0, c = 0, ru = 0, rv = 0;
+        for (int k = 0; k < 3; k++) {
+            double r = X[k] - D[0][k];
+            a += D[1][k] * D[1][k];
+            b += D[1][k] * D[2][k];
+            c += D[2][k] * D[2][k];
+            ru += D[1][k] * r;
+            rv += D[2][k] * r;
+        }
+        double det = a * c - b * b;
+        if (!(fabs(det) > 0) || !isfinite(det))
+            break;
+        double nu = fmin(d[1], fmax(d[0], uv[0] + (c * ru - b * rv) / det));
+        double nv = fmin(d[3], fmax(d[2], uv[1] + (a * rv - b * ru) / det));
+        double E[6][3];
+        cb_nurbs_surface_eval_derivs(E, pat, nu, nv);
+        double e = (E[0][0] - X[0]) * (E[0][0] - X[0]) + (E[0][1] - X[1]) * (E[0][1] - X[1]) +
+                   (E[0][2] - X[2]) * (E[0][2] - X[2]);
+        if (!(e < best))
+            break;
+        best = e;
+        uv[0] = nu;
+        uv[1] = nv;
+        memcpy(D, E, sizeof D);
+    }
+    return sqrt(best);
+}
+
+/* The Q patch lies on P's surface within tol: all 25 grid points within tol of F = 0 (the
+ * algebraic route). The centre is tried first, so a pair that is not coincident costs one
+ * point. */
+static int job_near_coincident(const pair_ctx *c, const pair_job *J, const cb_implicit_struct *F)
+{
+    const cb_nurbs_surface_struct *q = c->qpat + J->iq;
+    for (int k = 0; k < 25; k++) {
+        double uv[2], X[3];
+        grid_param(uv, q, k);
+        cb_nurbs_surface_eval(X, q, uv[0], uv[1]);
+        if (!(implicit_dist(F, X) <= c->tol))
+            return 0;
+    }
+    return 1;
+}
+
+/* Distance from X to the algebraic continuation of the Bezier patch P (de Casteljau is valid
+ * outside [0,1]^2: the patch's polynomial or rational map continued, which stays on the same
+ * algebraic surface), over local parameters in [-1, 2]^2: the nearest of a 13 x 13 grid, or
+ * uv when warm, then Gauss-Newton (at most 30 steps, each kept only when it gets closer). */
+static double bez_project(double uv[2], const _cb_ssi_bez *P, const double X[3], int warm)
+{
+    double A[3], Au[3], Av[3], best = HUGE_VAL;
+    if (!warm)
+        for (int i = 0; i <= 12; i++)
+            for (int j = 0; j <= 12; j++) {
+                double u = -1 + i / 4.0, v = -1 + j / 4.0;
+                _cb_ssi_bez_eval(A, Au, Av, P, u, v);
+                double e = (A[0] - X[0]) * (A[0] - X[0]) + (A[1] - X[1]) * (A[1] - X[1]) +
+                           (A[2] - X[2]) * (A[2] - X[2]);
+                if (e < best) {
+                    best = e;
+                    uv[0] = u;
+                    uv[1] = v;
+                }
+            }
+    _cb_ssi_bez_eval(A, Au, Av, P, uv[0], uv[1]);
+    best = (A[0] - X[0]) * (A[0] - X[0]) + (A[1] - X[1]) * (A[1] - X[1]) +
+           (A[2] - X[2]) * (A[2] - X[2]);
+    for (int it = 0; it < 30 && best > 0; it++) {
+        double a = 0, b = 0, cc = 0, ru = 0, rv = 0;
+        for (int k = 0; k < 3; k++) {
+            double r = X[k] - A[k];
+            a += Au[k] * Au[k];
+            b += Au[k] * Av[k];
+            cc += Av[k] * Av[k];
+            ru += Au[k] * r;
+            rv += Av[k] * r;
+        }
+        double det = a * cc - b * b;
+        if (!(fabs(det) > 0) || !isfinite(det))
+            break;
+        double nu = fmin(2, fmax(-1, uv[0] + (cc * ru - b * rv) / det));
+        double nv = fmin(2, fmax(-1, uv[1] + (a * rv - b * ru) / det));
+        double B[3], Bu[3], Bv[3];
+        _cb_ssi_bez_eval(B, Bu, Bv, P, nu, nv);
+        double e = (B[0] - X[0]) * (B[0] - X[0]) + (B[1] - X[1]) * (B[1] - X[1]) +
+                   (B[2] - X[2]) * (B[2] - X[2]);
+        if (!(e < best))
+            break;
+        best = e;
+        uv[0] = nu;
+        uv[1] = nv;
+        memcpy(A, B, sizeof A);
+        memcpy(Au, Bu, sizeof Au);
+        memcpy(Av, Bv, sizeof Av);
+    }
+    return sqrt(best);
+}
+
+/* The subdivision route's test: every point of a 5 x 5 grid of Q within tol of P's continued
+ * patch (the centre first, so a pair that is not coincident costs one projection). Patches of
+ * one algebraic surface that only partly overlap are found too; two pieces of a B-spline
+ * surface across a knot line are different polynomials and are not. */
+static int bez_near_coincident(const _cb_ssi_bez *P, const _cb_ssi_bez *Q, double tol)
+{
+    double uvp[2] = {0.5, 0.5};
+    for (int k = 0; k < 25; k++) {
+        int g = (k + 12) % 25;
+        double X[3], Xu[3], Xv[3];
+        _cb_ssi_bez_eval(X, Xu, Xv, Q, (g / 5) / 4.0, (g % 5) / 4.0);
+        if (!(bez_project(uvp, P, X, k > 0) <= tol))
+            return 0;
+    }
+    return 1;
+}
+
+/* Orientation of a coincident pair: the normals S_u x S_v of Q and of P at the point of Q's
+ * 5 x 5 grid nearest P's patch (a point of both patches when they overlap; analytic P: its own
+ * parameters there; spline P: the nearest point of its patch). J->cdist: that distance. */
+static void job_orientation(pair_job *J, const pair_ctx *c)
+{
+    const cb_nurbs_surface_struct *q = c->qpat + J->iq;
+    double best = HUGE_VAL, pbest[2] = {0, 0}, qbest[2] = {0, 0}, pv[2] = {0, 0};
+    for (int k = 0; k < 25 && best > 0; k++) {
+        double uv[2], X[3], Y[3], dist;
+        grid_param(uv, q, k);
+        cb_nurbs_surface_eval(X, q, uv[0], uv[1]);
+        if (c->ppat) {
+            dist = patch_project(pv, c->ppat + J->ip, X, 0);
+        } else {
+            _cb_ssi_analytic_invert(pv, &c->Ps->analytic, X);
+            cb_analytic_eval(Y, &c->Ps->analytic, pv[0], pv[1]);
+            dist = sqrt((X[0] - Y[0]) * (X[0] - Y[0]) + (X[1] - Y[1]) * (X[1] - Y[1]) +
+                        (X[2] - Y[2]) * (X[2] - Y[2]));
+        }
+        if (dist < best) {
+            best = dist;
+            memcpy(pbest, pv, sizeof pbest);
+            memcpy(qbest, uv, sizeof qbest);
+        }
+    }
+    double D[6][3], nq[3], np[3];
+    cb_nurbs_surface_eval_derivs(D, q, qbest[0], qbest[1]);
+    cross3(nq, D[1], D[2]);
+    memcpy(J->cxyz, D[0], sizeof J->cxyz);
+    if (c->ppat)
+        cb_nurbs_surface_eval_derivs(D, c->ppat + J->ip, pbest[0], pbest[1]);
+    else
+        cb_analytic_eval_derivs(D, &c->Ps->analytic, pbest[0], pbest[1]);
+    cross3(np, D[1], D[2]);
+    J->same_normal = np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2] > 0;
+    J->cdist = best;
+}
+
+/* The subdivision route for one patch pair (ssi/spline.h), after the coincidence test. */
 static void spline_run(pair_job *J, const pair_ctx *c)
 {
     double t0 = now_s();
@@ -191,6 +463,14 @@ static void spline_run(pair_job *J, const pair_ctx *c)
     }
     if (J->st != CB_OK) {
         snprintf(J->msg, sizeof J->msg, "%.190s", err.msg);
+        return;
+    }
+    if (bez_near_coincident(&P, &Q, c->tol)) {
+        J->coincident = 1;
+        job_orientation(J, c);
+        J->t_topo = now_s() - t0;
+        _cb_ssi_bez_clear(&P);
+        _cb_ssi_bez_clear(&Q);
         return;
     }
     _cb_ssi_spline_opts so = {c->opts->spline_max_depth, c->opts->spline_max_subpairs, c->tol,
@@ -265,10 +545,13 @@ static void pair_run(pair_job *J, const pair_ctx *c)
         nneg += phi->bern[k] < 0;
         nz += !fmpz_is_zero(phi->c + k);
     }
-    if (nz == 0) {
-        J->st = CB_ERR_UNSUPPORTED;
-        snprintf(J->msg, sizeof J->msg, "the patches lie on one surface (phi = 0)");
+    if (nz == 0 || job_near_coincident(c, J, F)) {
+        /* Q lies on P's surface: exactly (phi = 0), or within tol (rounded input, where phi
+         * may even be of one sign). */
+        J->coincident = 1;
+        job_orientation(J, c);
         cb_phi_clear(phi);
+        J->t_topo = now_s() - t0;
         return;
     }
     if (npos == len || nneg == len) {
@@ -306,6 +589,7 @@ static void pair_run(pair_job *J, const pair_ctx *c)
         _cb_ssi_sqf h;
         _cb_ssi_sqf_init(&h);
         _cb_ssi_sqf_set(&h, mp, ctx);
+        _cb_ssi_vertex_refine(T, &h);
         _cb_ssi_trace_set ts;
         _cb_ssi_trace_set_init(&ts);
         _cb_ssi_trace(&ts, T, &h, _cb_ssi_lift, &g, g.chord, g.max_seg);
@@ -369,6 +653,26 @@ static void box_to_domain(double out[4], const double loc[4], const cb_nurbs_sur
         out[k] = d[k & 2] + loc[k] * (d[(k & 2) + 1] - d[k & 2]);
 }
 
+cb_ssi_coincident *_cb_ssi_add_coincident(cb_ssi_result_t r, int fa, int fb, int pa, int pb,
+                                          int same_normal, const double xyz[3])
+{
+    if (r->n_coincident == r->alloc_coincident) {
+        r->alloc_coincident = r->alloc_coincident ? 2 * r->alloc_coincident : 8;
+        r->coincident =
+            realloc(r->coincident, (size_t)r->alloc_coincident * sizeof(*r->coincident));
+    }
+    cb_ssi_coincident *c = r->coincident + r->n_coincident++;
+    c->face_a = fa;
+    c->face_b = fb;
+    c->patch_a = pa;
+    c->patch_b = pb;
+    c->patch_pairs = 1;
+    c->whole = 1;
+    c->same_normal = c->same_face_normal = same_normal != 0;
+    memcpy(c->xyz, xyz, sizeof c->xyz);
+    return c;
+}
+
 void _cb_ssi_add_failure(cb_ssi_result_t r, int fa, int fb, int pa, int pb, cb_status st,
                         const char *msg)
 {
@@ -414,10 +718,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                           int face_a, int face_b, const cb_ssi_opts *opts, cb_error *err)
 {
     if (A->kind == CB_SSI_ANALYTIC && B->kind == CB_SSI_ANALYTIC)
-        return cb_error_set(err, CB_ERR_UNSUPPORTED,
-                            "ssi: two analytic surfaces (%s, %s) are not handled",
-                            cb_analytic_kind_name(A->analytic.kind),
-                            cb_analytic_kind_name(B->analytic.kind));
+        return _cb_ssi_analytic_pair(r, A, B, face_a, face_b, opts, err);
     /* P is implicitised: the analytic side, or the spline of lower patch bidegree. */
     int swapped;
     if (A->kind == CB_SSI_ANALYTIC)
@@ -513,7 +814,15 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                                   ? 1
                                   : (Ps->analytic.kind == CB_ANALYTIC_TORUS ? 4 : 2));
             slong dq = FLINT_MAX(qpat[j].deg_u, qpat[j].deg_v);
-            if (N * dq > opts->max_phi_degree && ppat) {
+            if (ppat && patch_rational(ppat + i) && ppat[i].deg_u * ppat[i].deg_v <= 4) {
+                /* A rational P patch of degree <= 2: implicitise, then choose (exact conic
+                 * weights, as Colibri's models write them, give base points and an implicit
+                 * degree below 2 m n, e.g. 2 for a cylinder or sphere piece). */
+                job[nj].probe = 1;
+            } else if (ppat && patch_rational(ppat + i)) {
+                job[nj].spline = 1;
+                r->pairs_subdivided++;
+            } else if (N * dq > opts->max_phi_degree && ppat) {
                 job[nj].spline = 1;
                 r->pairs_subdivided++;
             } else if (N * dq > opts->max_phi_degree) {
@@ -554,6 +863,23 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
         st = cb_parallel_for((size_t)np, 1, opts->threads, p_body, &pc);
         if (st != CB_OK)
             cb_error_set(err, st, "ssi: parallel implicitisation failed");
+        /* Probed pairs: the algebraic route when the true implicit degree allows it. */
+        for (slong k = 0; k < nj; k++) {
+            pair_job *J = job + k;
+            if (!J->probe)
+                continue;
+            /* The algebraic route when the implicit degree dropped below the Dixon rank
+             * bound 2 m n (base points of exact conic arcs) and phi stays within the limit;
+             * otherwise (weights rounded, as sqrt(2)/2 is: no base points, degree 2 m n,
+             * huge coefficients) the subdivision route. */
+            slong dq = FLINT_MAX(qpat[J->iq].deg_u, qpat[J->iq].deg_v);
+            slong bound = 2 * ppat[J->ip].deg_u * ppat[J->ip].deg_v;
+            if (P[J->ip].st != CB_OK || P[J->ip].F->deg * dq > opts->max_phi_degree ||
+                P[J->ip].F->deg >= bound) {
+                J->spline = 1;
+                r->pairs_subdivided++;
+            }
+        }
     } else if (st == CB_OK) {
         st = cb_implicit_from_analytic(F_an, &Ps->analytic, err);
     }
@@ -566,12 +892,20 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
     }
     if (st == CB_OK) {
         _cb_ssi_piece_set *sets = malloc((size_t)(nj + 1) * sizeof(_cb_ssi_piece_set));
+        slong n_coinc = 0, first_coinc = -1;
         for (slong k = 0; k < nj; k++) {
             pair_job *J = job + k;
             r->time_topo += J->t_topo;
             r->time_trace += J->t_trace;
             r->subpairs += J->sst.subpairs;
-            if (J->st != CB_OK) {
+            if (J->st == CB_OK && J->coincident) {
+                r->pairs_certified++;
+                r->pairs_coincident++;
+                n_coinc++;
+                /* The pair whose comparison point lies on both patches (or nearest). */
+                if (first_coinc < 0 || J->cdist < job[first_coinc].cdist)
+                    first_coinc = k;
+            } else if (J->st != CB_OK) {
                 int pa = ppat ? J->ip : -1, pb = J->iq;
                 if (swapped) {
                     int t = pa;
@@ -595,6 +929,15 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
             if (!J->spline)
                 to_domains(&J->pieces, P ? P[J->ip].dp : NULL, Ps, Q + J->iq);
             sets[k] = J->pieces;
+        }
+        if (n_coinc > 0) {
+            const pair_job *J = job + first_coinc;
+            int pa = ppat ? J->ip : -1, pb = J->iq;
+            cb_ssi_coincident *cr =
+                _cb_ssi_add_coincident(r, fa, fb, swapped ? pb : pa, swapped ? pa : pb,
+                                       J->same_normal, J->cxyz);
+            cr->patch_pairs = n_coinc;
+            cr->whole = n_coinc == nj;
         }
         slong c0 = r->n_curves, q0 = r->n_points;
         /* Pieces of the subdivision route meet at boundary roots solved from the same

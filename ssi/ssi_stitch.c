@@ -18,7 +18,58 @@ void cb_ssi_result_clear(cb_ssi_result_t r)
     free(r->curve);
     free(r->point);
     free(r->failed);
+    free(r->coincident);
     cb_ssi_result_init(r);
+}
+
+void _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s)
+{
+    if (s->n_curves) {
+        if (r->n_curves + s->n_curves > r->alloc_curves) {
+            r->alloc_curves = FLINT_MAX(2 * r->alloc_curves, r->n_curves + s->n_curves);
+            r->curve = realloc(r->curve, (size_t)r->alloc_curves * sizeof(*r->curve));
+        }
+        memcpy(r->curve + r->n_curves, s->curve, (size_t)s->n_curves * sizeof(*s->curve));
+        r->n_curves += s->n_curves;
+        s->n_curves = 0;
+    }
+    if (s->n_points) {
+        if (r->n_points + s->n_points > r->alloc_points) {
+            r->alloc_points = FLINT_MAX(2 * r->alloc_points, r->n_points + s->n_points);
+            r->point = realloc(r->point, (size_t)r->alloc_points * sizeof(*r->point));
+        }
+        memcpy(r->point + r->n_points, s->point, (size_t)s->n_points * sizeof(*s->point));
+        r->n_points += s->n_points;
+        s->n_points = 0;
+    }
+    for (slong k = 0; k < s->n_failed; k++) {
+        const cb_ssi_failure *f = s->failed + k;
+        _cb_ssi_add_failure(r, f->face_a, f->face_b, f->patch_a, f->patch_b, f->status, f->msg);
+        cb_ssi_failure *g = r->failed + r->n_failed - 1;
+        g->has_box = f->has_box;
+        memcpy(g->box_a, f->box_a, sizeof g->box_a);
+        memcpy(g->box_b, f->box_b, sizeof g->box_b);
+    }
+    s->n_failed = 0;
+    for (slong k = 0; k < s->n_coincident; k++) {
+        const cb_ssi_coincident *c = s->coincident + k;
+        cb_ssi_coincident *d = _cb_ssi_add_coincident(r, c->face_a, c->face_b, c->patch_a,
+                                                      c->patch_b, c->same_normal, c->xyz);
+        *d = *c;
+    }
+    s->n_coincident = 0;
+    r->pairs_total += s->pairs_total;
+    r->pairs_culled += s->pairs_culled;
+    r->pairs_empty += s->pairs_empty;
+    r->pairs_certified += s->pairs_certified;
+    r->pairs_subdivided += s->pairs_subdivided;
+    r->pairs_coincident += s->pairs_coincident;
+    r->pairs_closed_form += s->pairs_closed_form;
+    r->subpairs += s->subpairs;
+    r->max_dist_a = fmax(r->max_dist_a, s->max_dist_a);
+    r->max_dist_b = fmax(r->max_dist_b, s->max_dist_b);
+    r->time_topo += s->time_topo;
+    r->time_trace += s->time_trace;
 }
 
 static double d3(const double *a, const double *b)

@@ -241,24 +241,61 @@ static void trace_edge(_cb_ssi_trace_curve *out, const cb_ctopo_t T, slong e, in
     double span = xb - xa;
     if (!E->vertical && span != 0) {
         /* Rank at a regular end (a helping point if there is one: its s is not critical, so
-         * the count there is the count inside), else just inside the other end. */
-        const cb_ctopo_vertex_struct *r;
-        int reg_a = va->kind < CB_CTOPO_CRITICAL && !va->singular;
-        if (vb->kind == CB_CTOPO_HELPING && va->kind != CB_CTOPO_HELPING)
-            r = vb;
-        else
-            r = reg_a ? va : vb;
-        double x = r->s;
-        if (r->kind != CB_CTOPO_HELPING) {
-            double dir = r == va ? 1 : -1;
-            x = r->s + dir * 1e-6 * fabs(span);
+         * the count there is the count inside), else just inside the other end. When both
+         * ends qualify, the one where the branch's root is best separated from the others
+         * (a helping point next to a fold sees both branches of the fold almost equal, and
+         * the nearest root there may be the other branch's), among those that see the count
+         * of the edge's middle (a root at round-off distance from a side of the box may be
+         * lost at one end). */
+        const cb_ctopo_vertex_struct *ends[2] = {va, vb};
+        sqf_at_s(work, h, 0.5 * (xa + xb));
+        int n_mid = _cb_ssi_roots01(roots, work, (int)h->dt);
+        int n = -1, best = 0;
+        double best_sep = -1;
+        for (int pass = 0; pass < 2 && n < 0; pass++)
+            for (int k = 0; k < 2; k++) {
+                const cb_ctopo_vertex_struct *r = ends[k], *o = ends[1 - k];
+                int regular = r->kind < CB_CTOPO_CRITICAL && !r->singular;
+                int usable = r->kind == CB_CTOPO_HELPING ||
+                             (regular && o->kind != CB_CTOPO_HELPING);
+                if (pass == 1)
+                    usable = k == ((vb->kind == CB_CTOPO_HELPING && va->kind != CB_CTOPO_HELPING) ||
+                                   !(va->kind < CB_CTOPO_CRITICAL && !va->singular));
+                if (!usable)
+                    continue;
+                double x = r->s;
+                if (r->kind != CB_CTOPO_HELPING)
+                    x = r->s + (k == 0 ? 1 : -1) * 1e-6 * fabs(span);
+                sqf_at_s(work, h, x);
+                int nr = _cb_ssi_roots01(roots, work, (int)h->dt);
+                if (nr == 0 || (pass == 0 && nr != n_mid))
+                    continue;
+                int b = 0;
+                for (int q = 1; q < nr; q++)
+                    if (fabs(roots[q] - r->t) < fabs(roots[b] - r->t))
+                        b = q;
+                double sep = HUGE_VAL;
+                for (int q = 0; q < nr; q++)
+                    if (q != b)
+                        sep = fmin(sep, fabs(roots[q] - roots[b]));
+                if (sep > best_sep) {
+                    best_sep = sep;
+                    best = b;
+                    n = nr;
+                }
+            }
+        if (n < 0)
+            n = 0;
+        if (best_sep < 1e-3 && n_mid > 0) {
+            /* Both ends ambiguous: at the middle, the root nearest the ends' mean t. */
+            sqf_at_s(work, h, 0.5 * (xa + xb));
+            n = _cb_ssi_roots01(roots, work, (int)h->dt);
+            double target = 0.5 * (va->t + vb->t);
+            best = 0;
+            for (int q = 1; q < n; q++)
+                if (fabs(roots[q] - target) < fabs(roots[best] - target))
+                    best = q;
         }
-        sqf_at_s(work, h, x);
-        int n = _cb_ssi_roots01(roots, work, (int)h->dt);
-        int best = 0;
-        for (int k = 1; k < n; k++)
-            if (fabs(roots[k] - r->t) < fabs(roots[best] - r->t))
-                best = k;
         P.rank = best;
         P.count = n;
         if (n == 0) {
@@ -315,6 +352,84 @@ static void trace_edge(_cb_ssi_trace_curve *out, const cb_ctopo_t T, slong e, in
             step = xb - x;
     }
     curve_push(out, vb->s, vb->t, vertex_fixed(vb));
+}
+
+/* --------------------------------------------------------------- vertex refinement -------- */
+
+static double sqf_eval(const _cb_ssi_sqf *h, double s, double t)
+{
+    double acc = 0;
+    for (slong i = h->ds; i >= 0; i--) {
+        double row = 0;
+        for (slong j = h->dt; j >= 0; j--)
+            row = row * t + h->hd[i * (h->dt + 1) + j];
+        acc = acc * s + row;
+    }
+    return acc;
+}
+
+/* dh/dt at (s, t). */
+static double sqf_eval_t(const _cb_ssi_sqf *h, double s, double t)
+{
+    double acc = 0;
+    for (slong i = h->ds; i >= 0; i--) {
+        double row = 0;
+        for (slong j = h->dt; j >= 1; j--)
+            row = row * t + j * h->hd[i * (h->dt + 1) + j];
+        acc = acc * s + row;
+    }
+    return acc;
+}
+
+void _cb_ssi_vertex_refine(cb_ctopo_t T, const _cb_ssi_sqf *h)
+{
+    for (slong v = 0; v < T->n_vertices; v++) {
+        cb_ctopo_vertex_struct *V = T->vertex + v;
+        if (V->kind == CB_CTOPO_HELPING || fmpq_equal(V->t_lo, V->t_hi))
+            continue;
+        double a = fmpq_get_d(V->t_lo), b = fmpq_get_d(V->t_hi);
+        int simple = V->kind == CB_CTOPO_FIBRE || V->kind == CB_CTOPO_BOUNDARY;
+        /* A simple root: h changes sign over the box. A multiple one (fold, cusp, isolated
+         * point): h_t does, or else |h| is least at it. */
+        double (*f)(const _cb_ssi_sqf *, double, double) = simple ? sqf_eval : sqf_eval_t;
+        double fa = f(h, V->s, a), fb = f(h, V->s, b);
+        if (!(fa * fb < 0)) {
+            if (simple)
+                continue;
+            const double g = 0.6180339887498949;
+            double x1 = b - g * (b - a), x2 = a + g * (b - a);
+            double f1 = fabs(sqf_eval(h, V->s, x1)), f2 = fabs(sqf_eval(h, V->s, x2));
+            for (int it = 0; it < 80; it++) {
+                if (f1 < f2) {
+                    b = x2;
+                    x2 = x1;
+                    f2 = f1;
+                    x1 = b - g * (b - a);
+                    f1 = fabs(sqf_eval(h, V->s, x1));
+                } else {
+                    a = x1;
+                    x1 = x2;
+                    f1 = f2;
+                    x2 = a + g * (b - a);
+                    f2 = fabs(sqf_eval(h, V->s, x2));
+                }
+            }
+            V->t = f1 < f2 ? x1 : x2;
+            continue;
+        }
+        for (int it = 0; it < 80 && b - a > 0; it++) {
+            double m = 0.5 * (a + b), fm = f(h, V->s, m);
+            if (m <= a || m >= b)
+                break;
+            if ((fm < 0) == (fa < 0)) {
+                a = m;
+                fa = fm;
+            } else {
+                b = m;
+            }
+        }
+        V->t = 0.5 * (a + b);
+    }
 }
 
 /* --------------------------------------------------------------- chains -------------------- */

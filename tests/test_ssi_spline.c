@@ -1,7 +1,8 @@
 /* test_ssi_spline.c — B-spline/B-spline intersection by the subdivision route (ssi/spline.h):
- * interval enclosures, a paraboloid against a tilted plane (closed form circle), two crossing
- * spline cylinders, a loop of radius 1e-3, a touching pair (must be reported, not dropped),
- * rational input, thread-count independence. */
+ * interval enclosures (polynomial and rational patches), a paraboloid against a tilted plane
+ * (closed form circle), two crossing spline cylinders, a loop of radius 1e-3, a touching pair
+ * (must be reported, not dropped), a patch against itself (coincident), a rational bicubic
+ * against a plane, thread-count independence. */
 #include <math.h>
 #include <stdlib.h>
 #include <time.h>
@@ -182,16 +183,45 @@ static void test_enclosure(void)
                    fabs(d[2][q] - pv[q]) > 1e-12;
     }
     CHECK(bad == 0, "%d enclosure or evaluation failures", bad);
-    /* A rational patch is refused, with the reason. */
+    /* A rational patch: the same enclosure property for X = P / w and its quotient-rule
+     * partials, and agreement with the NURBS evaluator. */
     double wts[16];
     for (int k = 0; k < 16; k++)
-        wts[k] = 1 + (k == 5);
+        wts[k] = check_rng_uniform(&rng, 0.5, 2);
     cb_nurbs_surface_t rs;
     cb_nurbs_surface_init(rs);
     cb_nurbs_surface_make(rs, 3, 3, knots, 8, knots, 8, pts, wts, 4, 4, &err);
     _cb_ssi_bez rb;
-    CHECK(_cb_ssi_bez_set(&rb, rs, &err) == CB_ERR_UNSUPPORTED && strstr(err.msg, "rational"),
+    CHECK(_cb_ssi_bez_set(&rb, rs, &err) == CB_OK && rb.rat == 1 && rb.dim == 4,
           "rational patch: %s", err.msg);
+    bad = 0;
+    for (int trial = 0; trial < 2000 && rb.rat; trial++) {
+        double w = ldexp(1, -check_rng_int(&rng, 0, 30));
+        double u0 = check_rng_uniform(&rng, 0, 1 - w), v0 = check_rng_uniform(&rng, 0, 1 - w);
+        _cb_iv U = {u0, u0 + w}, V = {v0, v0 + w}, X[3], Xu[3], Xv[3];
+        _cb_ssi_bez_eval_iv(X, Xu, Xv, &rb, U, V);
+        double u = u0 + w * check_rng_uniform(&rng, 0, 1),
+               v = v0 + w * check_rng_uniform(&rng, 0, 1);
+        double p[3], pu[3], pv[3], d[6][3];
+        _cb_ssi_bez_eval(p, pu, pv, &rb, u, v);
+        cb_nurbs_surface_eval_derivs(d, rs, u, v);
+        for (int q = 0; q < 3; q++) {
+            int e = !(p[q] >= X[q].lo - 1e-15 * (1 + fabs(p[q])) &&
+                      p[q] <= X[q].hi + 1e-15 * (1 + fabs(p[q]))) ||
+                    !(pu[q] >= Xu[q].lo - 1e-13 && pu[q] <= Xu[q].hi + 1e-13) ||
+                    !(pv[q] >= Xv[q].lo - 1e-13 && pv[q] <= Xv[q].hi + 1e-13) ||
+                    fabs(d[0][q] - p[q]) > 1e-14 || fabs(d[1][q] - pu[q]) > 1e-11 ||
+                    fabs(d[2][q] - pv[q]) > 1e-11;
+            if (e && bad < 3)
+                fprintf(stderr, "trial %d q %d: p %.17g in [%.17g, %.17g] vs %.17g; pu %.17g in "
+                        "[%.17g, %.17g] vs %.17g; pv %.17g in [%.17g, %.17g] vs %.17g\n", trial, q,
+                        p[q], X[q].lo, X[q].hi, d[0][q], pu[q], Xu[q].lo, Xu[q].hi, d[1][q],
+                        pv[q], Xv[q].lo, Xv[q].hi, d[2][q]);
+            bad += e;
+        }
+    }
+    CHECK(bad == 0, "rational: %d enclosure or evaluation failures", bad);
+    _cb_ssi_bez_clear(&rb);
     _cb_ssi_bez_clear(&b);
     cb_nurbs_surface_clear(s);
     cb_nurbs_surface_clear(rs);
@@ -370,8 +400,8 @@ static void test_small_loop(void)
     cb_nurbs_surface_clear(q0);
 }
 
-/* A patch against itself: no direction exists anywhere; the whole patch must be reported
- * (within the work budget), with the failure box covering it. */
+/* A patch against itself: no direction exists anywhere, so subdivision alone could only
+ * report it; the coincidence test finds every patch pair on one surface first. */
 static void test_coincident(void)
 {
     cb_nurbs_surface_t p;
@@ -381,26 +411,24 @@ static void test_coincident(void)
     cb_ssi_opts_default(&o);
     cb_ssi_result_t r;
     run(r, p, p, &o, "patch x itself");
-    CHECK(r->n_failed >= 4 && r->status == CB_ERR_UNSUPPORTED, "failures %ld status %d",
-          (long)r->n_failed, r->status);
-    double lo[2] = {1, 1}, hi[2] = {0, 0};
-    for (slong k = 0; k < r->n_failed; k++) {
-        const cb_ssi_failure *f = r->failed + k;
-        if (!f->has_box)
-            continue;
-        for (int d = 0; d < 2; d++) {
-            lo[d] = fmin(lo[d], f->box_a[2 * d]);
-            hi[d] = fmax(hi[d], f->box_a[2 * d + 1]);
-        }
-    }
-    CHECK(lo[0] == 0 && lo[1] == 0 && hi[0] == 1 && hi[1] == 1,
-          "failure boxes cover [%g, %g] x [%g, %g], not the patch", lo[0], hi[0], lo[1], hi[1]);
+    /* The paraboloid is one polynomial surface cut into 4 Bezier patches: every patch pair,
+     * neighbours included (each patch continued lies on the same surface), is coincident, so
+     * the pair is one coincidence record and nothing is left uncertified. */
+    CHECK(r->n_failed == 0 && r->status == CB_OK && r->n_curves == 0,
+          "failures %ld status %d curves %ld", (long)r->n_failed, r->status, (long)r->n_curves);
+    CHECK(r->n_coincident == 1 && r->pairs_coincident == 16 &&
+              r->coincident[0].patch_pairs == 16 && r->coincident[0].same_normal == 1 &&
+              r->coincident[0].whole == 1,
+          "coincident records %ld, patch pairs %ld", (long)r->n_coincident,
+          (long)r->pairs_coincident);
     cb_ssi_result_clear(r);
     cb_nurbs_surface_clear(p);
 }
 
-/* Rational spline pairs above the phi limit are listed as unsupported, with the reason. */
-static void test_bad_input(void)
+/* A rational bicubic (weight 2 at one inner control point, a bump) against a tilted plane
+ * above its flat part: one closed curve around the bump, by the subdivision route, every point
+ * on both. */
+static void test_rational(void)
 {
     double pts[48], wts[16], knots[8] = {0, 0, 0, 0, 1, 1, 1, 1};
     for (int i = 0; i < 4; i++)
@@ -415,15 +443,15 @@ static void test_bad_input(void)
     cb_nurbs_surface_init(b);
     cb_error err;
     cb_nurbs_surface_make(a, 3, 3, knots, 8, knots, 8, pts, wts, 4, 4, &err);
-    tilted_plane(b, 0.05, 0.1, 0.2);
+    tilted_plane(b, 0.1, 0.1, 0.2);
     cb_ssi_opts o;
     cb_ssi_opts_default(&o);
     cb_ssi_result_t r;
     run(r, a, b, &o, "rational x bicubic");
-    CHECK(r->n_failed == 1 && r->status == CB_ERR_UNSUPPORTED &&
-              strstr(r->failed[0].msg, "rational"),
-          "failures %ld status %d msg %s", (long)r->n_failed, r->status,
-          r->n_failed ? r->failed[0].msg : "");
+    CHECK(r->n_failed == 0 && r->status == CB_OK && r->n_curves == 1 && r->curve[0].closed &&
+              r->pairs_subdivided == 1,
+          "failures %ld status %d curves %ld", (long)r->n_failed, r->status, (long)r->n_curves);
+    CHECK(max_dist(r, a, b) <= 1e-7, "rational: distance to the surfaces %g", max_dist(r, a, b));
     cb_ssi_result_clear(r);
     cb_nurbs_surface_clear(a);
     cb_nurbs_surface_clear(b);
@@ -517,7 +545,7 @@ int main(void)
     test_paraboloid_plane();
     test_cylinders();
     test_small_loop();
-    test_bad_input();
+    test_rational();
     test_coincident();
     test_hummingbird();
     return check_report("test_ssi_spline");

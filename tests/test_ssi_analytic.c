@@ -1,0 +1,781 @@
+/* Intersections of analytic surfaces (ssi/ssi_analytic.c: closed forms and the general route),
+ * coincident surfaces, rational patches in the algebraic and subdivision routes, and
+ * cb_ssi_bodies on the Cardan-joint scenarios (analytic and exact rational B-spline parts).
+ * Every case checks exact counts of curves, isolated points and coincident pairs, and that every
+ * output point lies on both surfaces (an independent first-order distance |F| / |grad F| from
+ * the surfaces' own implicit equations, and the surfaces evaluated at the reported
+ * parameters). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "brep/prim.h"
+#include "check.h"
+#include "models/models.h"
+#include "ssi/ssi.h"
+
+#define PI CB_SSI_PI
+
+/* ---------------------------------------------------------------- helpers ------------------ */
+
+static cb_frame frame(double ox, double oy, double oz, double zx, double zy, double zz)
+{
+    cb_frame f;
+    double o[3] = {ox, oy, oz}, z[3] = {zx, zy, zz};
+    cb_error err;
+    cb_status st = cb_frame_make(&f, o, z, NULL, &err);
+    CHECK(st == CB_OK, "frame: %s", err.msg);
+    return f;
+}
+
+static cb_analytic_surface plane(cb_frame f)
+{
+    cb_analytic_surface s;
+    cb_error err;
+    CHECK(cb_analytic_plane(&s, &f, &err) == CB_OK, "plane: %s", err.msg);
+    return s;
+}
+
+static cb_analytic_surface cylinder(cb_frame f, double r)
+{
+    cb_analytic_surface s;
+    cb_error err;
+    CHECK(cb_analytic_cylinder(&s, &f, r, &err) == CB_OK, "cylinder: %s", err.msg);
+    return s;
+}
+
+static cb_analytic_surface sphere(cb_frame f, double r)
+{
+    cb_analytic_surface s;
+    cb_error err;
+    CHECK(cb_analytic_sphere(&s, &f, r, &err) == CB_OK, "sphere: %s", err.msg);
+    return s;
+}
+
+static cb_analytic_surface cone(cb_frame f, double r, double a)
+{
+    cb_analytic_surface s;
+    cb_error err;
+    CHECK(cb_analytic_cone(&s, &f, r, a, &err) == CB_OK, "cone: %s", err.msg);
+    return s;
+}
+
+static cb_analytic_surface torus(cb_frame f, double R, double r)
+{
+    cb_analytic_surface s;
+    cb_error err;
+    CHECK(cb_analytic_torus(&s, &f, R, r, &err) == CB_OK, "torus: %s", err.msg);
+    return s;
+}
+
+/* First-order distance of X from the surface: |F| / |grad F| of its implicit equation about X
+ * (for plane, cylinder and sphere the exact distance to first order; independent of the SSI
+ * code, which inverts points by other closed forms). */
+static double dist_to(const cb_analytic_surface *s, const double X[3])
+{
+    cb_poly3_t F;
+    cb_poly3_init(F);
+    cb_error err;
+    double g[3], z[3] = {0, 0, 0}, d = HUGE_VAL;
+    if (cb_analytic_implicit_about(F, s, X, &err) == CB_OK) {
+        double f = cb_poly3_eval_grad(g, F, z), gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        d = f == 0 ? 0 : fabs(f) / gn;
+    }
+    cb_poly3_clear(F);
+    return d;
+}
+
+static double d3(const double *a, const double *b)
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/* Every curve and isolated point within tol of both analytic surfaces, independently and (with
+ * params: the inputs were these analytic surfaces) at its reported parameters; returns the
+ * largest distance seen. */
+static double check_on(const cb_ssi_result_t r, const cb_analytic_surface *a,
+                       const cb_analytic_surface *b, double tol, int params, const char *name)
+{
+    double worst = 0;
+    int bad = 0;
+    for (slong c = 0; c <= r->n_curves; c++) {
+        slong n = c < r->n_curves ? r->curve[c].n : r->n_points;
+        for (slong i = 0; i < n; i++) {
+            const cb_ssi_point *p = c < r->n_curves ? r->curve[c].pt + i : &r->point[i].p;
+            double pa[3], pb[3];
+            cb_analytic_eval(pa, a, p->uv_a[0], p->uv_a[1]);
+            cb_analytic_eval(pb, b, p->uv_b[0], p->uv_b[1]);
+            double e = fmax(dist_to(a, p->xyz), dist_to(b, p->xyz));
+            if (params)
+                e = fmax(e, fmax(d3(pa, p->xyz), d3(pb, p->xyz)));
+            worst = fmax(worst, e);
+            bad += !(e <= tol);
+        }
+    }
+    CHECK(bad == 0, "%s: %d points farther than tol %g from a surface (worst %g)", name, bad,
+          tol, worst);
+    return worst;
+}
+
+static double check_on_both(const cb_ssi_result_t r, const cb_analytic_surface *a,
+                            const cb_analytic_surface *b, double tol, const char *name)
+{
+    return check_on(r, a, b, tol, 1, name);
+}
+
+typedef struct {
+    int curves, closed, tangential, points, coincident;
+} counts;
+
+static counts count(const cb_ssi_result_t r)
+{
+    counts k = {(int)r->n_curves, 0, 0, (int)r->n_points, (int)r->n_coincident};
+    for (slong c = 0; c < r->n_curves; c++) {
+        k.closed += r->curve[c].closed != 0;
+        k.tangential += r->curve[c].tangential != 0;
+    }
+    return k;
+}
+
+/* Intersects two analytic surfaces over the given ranges; checks the counts, that nothing
+ * failed and that the points lie on both. */
+static void pair(cb_ssi_result_t r, const cb_analytic_surface *a, const double ra[4],
+                 const cb_analytic_surface *b, const double rb[4], counts want, const char *name)
+{
+    cb_ssi_surface A, B;
+    cb_ssi_surface_set_analytic(&A, a, ra);
+    cb_ssi_surface_set_analytic(&B, b, rb);
+    cb_ssi_opts o;
+    cb_ssi_opts_default(&o);
+    cb_ssi_result_init(r);
+    cb_error err;
+    cb_error_clear(&err);
+    cb_status st = cb_ssi_surfaces(r, &A, &B, -1, -1, &o, &err);
+    CHECK(st == CB_OK && r->status == CB_OK && r->n_failed == 0,
+          "%s: status %d/%d, %ld failed (%s)", name, st, r->status, (long)r->n_failed,
+          r->n_failed ? r->failed[0].msg : err.msg);
+    counts k = count(r);
+    CHECK(k.curves == want.curves && k.closed == want.closed && k.tangential == want.tangential &&
+              k.points == want.points && k.coincident == want.coincident,
+          "%s: curves %d (closed %d, tangential %d), points %d, coincident %d; expected %d (%d, "
+          "%d), %d, %d",
+          name, k.curves, k.closed, k.tangential, k.points, k.coincident, want.curves,
+          want.closed, want.tangential, want.points, want.coincident);
+    check_on_both(r, a, b, r->tol, name);
+}
+
+static const double BOX[4] = {-4, 4, -4, 4};           /* plane ranges */
+static const double CYL[4] = {0, 2 * PI, -4, 4};       /* full turn, axial [-4, 4] */
+static const double SPH[4] = {0, 2 * PI, -PI / 2, PI / 2};
+
+/* Distance of X from the line through p along the unit d. */
+static double line_dist(const double X[3], const double p[3], const double d[3])
+{
+    double w[3] = {X[0] - p[0], X[1] - p[1], X[2] - p[2]};
+    double t = w[0] * d[0] + w[1] * d[1] + w[2] * d[2];
+    double q[3] = {w[0] - t * d[0], w[1] - t * d[1], w[2] - t * d[2]};
+    return sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+}
+
+/* ---------------------------------------------------------------- planes ------------------- */
+
+static void test_plane_plane(void)
+{
+    cb_ssi_result_t r;
+    cb_analytic_surface p0 = plane(frame(0, 0, 0, 0, 0, 1));
+    cb_analytic_surface p1 = plane(frame(0.5, 0, 0, 1, 0, 1));
+    pair(r, &p0, BOX, &p1, BOX, (counts){1, 0, 0, 0, 0}, "plane x plane crossing");
+    /* The line x = 0.5, z = 0 (along y). */
+    const double p[3] = {0.5, 0, 0}, d[3] = {0, 1, 0};
+    double worst = 0;
+    for (slong i = 0; r->n_curves == 1 && i < r->curve[0].n; i++)
+        worst = fmax(worst, line_dist(r->curve[0].pt[i].xyz, p, d));
+    CHECK(worst < 1e-12, "plane x plane: line off by %g", worst);
+    cb_ssi_result_clear(r);
+
+    cb_analytic_surface p2 = plane(frame(0, 0, 0.25, 0, 0, 1));
+    pair(r, &p0, BOX, &p2, BOX, (counts){0, 0, 0, 0, 0}, "parallel planes");
+    cb_ssi_result_clear(r);
+
+    /* The same plane: coincident, same normal; flipped: opposite normal. */
+    cb_analytic_surface p3 = plane(frame(1, 2, 0, 0, 0, 1));
+    pair(r, &p0, BOX, &p3, BOX, (counts){0, 0, 0, 0, 1}, "coincident planes");
+    CHECK(r->n_coincident == 1 && r->coincident[0].same_normal == 1 &&
+              r->coincident[0].same_face_normal == 1 && r->pairs_coincident == 1,
+          "coincident planes: record %ld, same_normal %d", (long)r->n_coincident,
+          r->n_coincident ? r->coincident[0].same_normal : -1);
+    cb_ssi_result_clear(r);
+    cb_analytic_surface p4 = plane(frame(1, 2, 0, 0, 0, -1));
+    pair(r, &p0, BOX, &p4, BOX, (counts){0, 0, 0, 0, 1}, "opposite coincident planes");
+    CHECK(r->n_coincident == 1 && r->coincident[0].same_normal == 0,
+          "opposite planes: same_normal %d", r->n_coincident ? r->coincident[0].same_normal : -1);
+    cb_ssi_result_clear(r);
+}
+
+/* Plane z = 0 against a cylinder along x at height h: two lines (|h| < r), the line of
+ * contact (|h| = r), nothing (|h| > r); perpendicular: a circle; oblique: an ellipse. */
+static void test_plane_cylinder(void)
+{
+    cb_ssi_result_t r;
+    cb_analytic_surface pl = plane(frame(0, 0, 0, 0, 0, 1));
+    const double rad = 0.75;
+    cb_analytic_surface c0 = cylinder(frame(0, 0, 0.25, 1, 0, 0), rad);
+    pair(r, &pl, BOX, &c0, CYL, (counts){2, 0, 0, 0, 0}, "plane x cylinder, two lines");
+    cb_ssi_result_clear(r);
+
+    /* A cylinder lying on the plane: the tangential line y = 0, z = 0. */
+    cb_analytic_surface c1 = cylinder(frame(0, 0, rad, 1, 0, 0), rad);
+    pair(r, &pl, BOX, &c1, CYL, (counts){1, 0, 1, 0, 0}, "cylinder lying on a plane");
+    const double p[3] = {0, 0, 0}, d[3] = {1, 0, 0};
+    double worst = 0, len = 0;
+    for (slong i = 0; r->n_curves == 1 && i < r->curve[0].n; i++)
+        worst = fmax(worst, line_dist(r->curve[0].pt[i].xyz, p, d));
+    if (r->n_curves == 1)
+        len = d3(r->curve[0].pt[0].xyz, r->curve[0].pt[r->curve[0].n - 1].xyz);
+    CHECK(worst < 1e-12 && fabs(len - 8) < 1e-9, "line of contact: off by %g, length %g (8)",
+          worst, len);
+    cb_ssi_result_clear(r);
+    /* Off by less than the tolerance: still the tangential line, between the two. */
+    cb_analytic_surface c2 = cylinder(frame(0, 0, rad + 1e-8, 1, 0, 0), rad);
+    pair(r, &pl, BOX, &c2, CYL, (counts){1, 0, 1, 0, 0}, "cylinder 1e-8 above a plane");
+    cb_ssi_result_clear(r);
+    cb_analytic_surface c3 = cylinder(frame(0, 0, rad + 1e-3, 1, 0, 0), rad);
+    pair(r, &pl, BOX, &c3, CYL, (counts){0, 0, 0, 0, 0}, "cylinder above a plane");
+    cb_ssi_result_clear(r);
+
+    cb_analytic_surface c4 = cylinder(frame(0.5, 0, 0, 0, 0, 1), rad);
+    pair(r, &pl, BOX, &c4, CYL, (counts){1, 1, 0, 0, 0}, "plane x perpendicular cylinder");
+    worst = 0;
+    for (slong i = 0; r->n_curves == 1 && i < r->curve[0].n; i++) {
+        const double *X = r->curve[0].pt[i].xyz;
+        worst = fmax(worst, fabs(hypot(X[0] - 0.5, X[1]) - rad) + fabs(X[2]));
+    }
+    CHECK(worst < 1e-12, "perpendicular cylinder: circle off by %g", worst);
+    cb_ssi_result_clear(r);
+    cb_analytic_surface c5 = cylinder(frame(0, 0, 0, 1, 0, 1), rad);
+    pair(r, &pl, BOX, &c5, CYL, (counts){1, 1, 0, 0, 0}, "plane x oblique cylinder");
+    /* The ellipse x^2 / (2 r^2) + y^2 / r^2 = 1 in the plane. */
+    worst = 0;
+    for (slong i = 0; r->n_curves == 1 && i < r->curve[0].n; i++) {
+        const double *X = r->curve[0].pt[i].xyz;
+        worst = fmax(worst, fabs(X[0] * X[0] / (2 * rad * rad) + X[1] * X[1] / (rad * rad) - 1));
+    }
+    CHECK(worst < 1e-12, "oblique cylinder: ellipse off by %g", worst);
+    cb_ssi_result_clear(r);
+}
+
+/* ---------------------------------------------------------------- cylinders ---------------- */
+
+static void test_cylinder_cylinder(void)
+{
+    cb_ssi_result_t r;
+    cb_analytic_surface a = cylinder(frame(0, 0, 0, 0, 0, 1), 1.0);
+    /* Parallel, crossing: two lines. */
+    cb_analytic_surface b = cylinder(frame(1.2, 0, 0, 0, 0, 1), 0.5);
+    pair(r, &a, CYL, &b, CYL, (counts){2, 0, 0, 0, 0}, "parallel cylinders crossing");
+    cb_ssi_result_clear(r);
+    /* Two cylinders of radius 0.5 with axes 1 apart: touching along a line. */
+    cb_analytic_surface e0 = cylinder(frame(0, 0, 0, 0, 0, 1), 0.5);
+    cb_analytic_surface e1 = cylinder(frame(0, 1, 0, 0, 0, 1), 0.5);
+    pair(r, &e0, CYL, &e1, CYL, (counts){1, 0, 1, 0, 0}, "parallel cylinders touching");
+    const double p[3] = {0, 0.5, 0}, d[3] = {0, 0, 1};
+    double worst = 0;
+    for (slong i = 0; r->n_curves == 1 && i < r->curve[0].n; i++)
+        worst = fmax(worst, line_dist(r->curve[0].pt[i].xyz, p, d));
+    CHECK(worst < 1e-12, "touching cylinders: line off by %g", worst);
+    cb_ssi_result_clear(r);
+    /* A cylinder inside another, touching: internally tangent along a line. */
+    cb_analytic_surface i0 = cylinder(frame(0.6, 0, 0, 0, 0, 1), 0.4);
+    pair(r, &a, CYL, &i0, CYL, (counts){1, 0, 1, 0, 0}, "cylinder inside a cylinder, touching");
+    cb_ssi_result_clear(r);
+    cb_analytic_surface i1 = cylinder(frame(0.5, 0, 0, 0, 0, 1), 0.4);
+    pair(r, &a, CYL, &i1, CYL, (counts){0, 0, 0, 0, 0}, "cylinder inside a cylinder");
+    cb_ssi_result_clear(r);
+    /* Coaxial: the same cylinder (axis reversed) is coincident; another radius misses. */
+    cb_analytic_surface c0 = cylinder(frame(0, 0, 2, 0, 0, -1), 1.0);
+    pair(r, &a, CYL, &c0, CYL, (counts){0, 0, 0, 0, 1}, "coaxial cylinders, same radius");
+    CHECK(r->n_coincident == 1 && r->coincident[0].same_normal == 1, "coaxial: same_normal %d",
+          r->n_coincident ? r->coincident[0].same_normal : -1);
+    cb_ssi_result_clear(r);
+    cb_analytic_surface c1 = cylinder(frame(0, 0, 0, 0, 0, 1), 0.7);
+    pair(r, &a, CYL, &c1, CYL, (counts){0, 0, 0, 0, 0}, "coaxial cylinders, other radius");
+    cb_ssi_result_clear(r);
+    /* Crossing at right angles, radii 1 and 0.5: two closed curves (general route). */
+    const double RX[4] = {0, 2 * PI, -3, 3};
+    cb_analytic_surface x0 = cylinder(frame(0, 0, 0, 1, 0, 0), 0.5);
+    pair(r, &a, CYL, &x0, RX, (counts){2, 2, 0, 0, 0}, "cylinders crossing at right angles");
+    CHECK(r->pairs_closed_form == 0, "crossing cylinders: closed form used");
+    cb_ssi_result_clear(r);
+    /* Equal radii, axes (z and x) meeting: two ellipses in the planes x = +-z through the two
+     * contact points (0, +-1, 0), cut there into four arcs. */
+    cb_analytic_surface x1 = cylinder(frame(0, 0, 0, 1, 0, 0), 1.0);
+    const double RZ[4] = {0, 2 * PI, -3, 3};
+    pair(r, &a, RZ, &x1, RX, (counts){4, 0, 0, 0, 0}, "equal cylinders crossing");
+    int at_contact = 0;
+    const double top[3] = {0, 1, 0}, bot[3] = {0, -1, 0};
+    for (slong c = 0; c < r->n_curves; c++)
+        for (int e = 0; e < 2; e++) {
+            const double *X = r->curve[c].pt[e ? r->curve[c].n - 1 : 0].xyz;
+            at_contact += d3(X, top) < 1e-12 || d3(X, bot) < 1e-12;
+        }
+    CHECK(at_contact == 8, "equal cylinders: %d of 8 arc ends at the contact points",
+          at_contact);
+    cb_ssi_result_clear(r);
+    /* Skew axes (z, and x through (0, 1.5, 0)) 1.5 apart, radii 1 and 0.5: one contact point
+     * (0, 1, 0). */
+    cb_analytic_surface s0 = cylinder(frame(0, 1.5, 0, 1, 0, 0), 0.5);
+    const double RA[4] = {0, 2 * PI, -3, 3};
+    pair(r, &a, RA, &s0, RX, (counts){0, 0, 0, 1, 0}, "skew cylinders touching");
+    CHECK(r->n_points == 1 && r->point[0].tangential && d3(r->point[0].p.xyz, top) < 1e-12,
+          "skew cylinders: contact point not (0, 1, 0)");
+    cb_ssi_result_clear(r);
+}
+
+/* ---------------------------------------------------------------- spheres ------------------ */
+
+static void test_spheres(void)
+{
+    cb_ssi_result_t r;
+    const double R = 1.5;
+    cb_analytic_surface s = sphere(frame(0.25, -0.5, 0.125, 0, 0, 1), R);
+    /* Plane z = h: a circle of radius sqrt(R^2 - (h - zc)^2) about the vertical axis. */
+    for (int k = 0; k < 3; k++) {
+        double h = 0.125 + (k == 0 ? 0.0 : k == 1 ? 0.9 : -1.2);
+        cb_analytic_surface pl = plane(frame(0, 0, h, 0, 0, 1));
+        char name[64];
+        snprintf(name, sizeof name, "plane z = %g x sphere", h);
+        pair(r, &pl, BOX, &s, SPH, (counts){1, 1, 0, 0, 0}, name);
+        double rho = sqrt(R * R - (h - 0.125) * (h - 0.125)), worst = 0;
+        for (slong i = 0; r->n_curves == 1 && i < r->curve[0].n; i++) {
+            const double *X = r->curve[0].pt[i].xyz;
+            worst = fmax(worst, fabs(hypot(X[0] - 0.25, X[1] + 0.5) - rho) + fabs(X[2] - h));
+        }
+        CHECK(worst < 1e-12, "%s: circle of radius %g off by %g", name, rho, worst);
+        cb_ssi_result_clear(r);
+    }
+    /* Tangent plane: one point, the pole; beyond: nothing. */
+    cb_analytic_surface pt = plane(frame(0, 0, 0.125 + R, 0, 0, 1));
+    pair(r, &pt, BOX, &s, SPH, (counts){0, 0, 0, 1, 0}, "plane tangent to a sphere");
+    const double pole[3] = {0.25, -0.5, 0.125 + R};
+    CHECK(r->n_points == 1 && d3(r->point[0].p.xyz, pole) < 1e-12 && r->point[0].tangential,
+          "tangent plane: contact not at the pole");
+    cb_ssi_result_clear(r);
+    cb_analytic_surface pf = plane(frame(0, 0, 0.2 + R, 0, 0, 1));
+    pair(r, &pf, BOX, &s, SPH, (counts){0, 0, 0, 0, 0}, "plane beyond a sphere");
+    cb_ssi_result_clear(r);
+    /* An unbounded plane (its range is taken from the sphere's box). */
+    const double INF[4] = {-HUGE_VAL, HUGE_VAL, -HUGE_VAL, HUGE_VAL};
+    cb_analytic_surface po = plane(frame(0, 0, 0.5, 0.3, 0.2, 1));
+    pair(r, &po, INF, &s, SPH, (counts){1, 1, 0, 0, 0}, "unbounded plane x sphere");
+    cb_ssi_result_clear(r);
+
+    /* Sphere / sphere: a circle, externally and internally tangent points, the same sphere. */
+    cb_analytic_surface s1 = sphere(frame(1.25, 0.5, 0.125, 0, 0, 1), 1.0);
+    pair(r, &s, SPH, &s1, SPH, (counts){1, 1, 0, 0, 0}, "two spheres");
+    cb_ssi_result_clear(r);
+    cb_analytic_surface s2 = sphere(frame(0.25 + 2.5, -0.5, 0.125, 1, 1, 0), 1.0);
+    pair(r, &s, SPH, &s2, SPH, (counts){0, 0, 0, 1, 0}, "spheres touching outside");
+    cb_ssi_result_clear(r);
+    cb_analytic_surface s3 = sphere(frame(0.25, -0.5 + 0.5, 0.125, 0, 0, 1), 1.0);
+    pair(r, &s, SPH, &s3, SPH, (counts){0, 0, 0, 1, 0}, "sphere inside a sphere, touching");
+    cb_ssi_result_clear(r);
+    cb_analytic_surface s4 = sphere(frame(0.25, -0.5, 0.125, 1, 0, 0), R);
+    pair(r, &s, SPH, &s4, SPH, (counts){0, 0, 0, 0, 1}, "the same sphere");
+    cb_ssi_result_clear(r);
+
+    /* Cylinder / sphere: coaxial (two circles at z = +-sqrt(R^2 - r^2), or the equator of
+     * contact when r = R), touching from outside and from inside, and off the axis through
+     * the sphere (two loops, general route). */
+    cb_analytic_surface c = sphere(frame(0, 0, 0, 0, 0, 1), 1.0);
+    cb_analytic_surface cy = cylinder(frame(0, 0, -2, 0, 0, 1), 0.6);
+    pair(r, &cy, CYL, &c, SPH, (counts){2, 2, 0, 0, 0}, "coaxial cylinder x sphere");
+    double worst = 0;
+    for (slong k = 0; k < r->n_curves; k++)
+        for (slong i = 0; i < r->curve[k].n; i++) {
+            const double *X = r->curve[k].pt[i].xyz;
+            worst = fmax(worst, fabs(hypot(X[0], X[1]) - 0.6) + fabs(fabs(X[2]) - 0.8));
+        }
+    CHECK(worst < 1e-12, "coaxial cylinder x sphere: circles off by %g", worst);
+    cb_ssi_result_clear(r);
+    cb_analytic_surface ce = cylinder(frame(0, 0, -2, 0, 0, 1), 1.0);
+    pair(r, &ce, CYL, &c, SPH, (counts){1, 1, 1, 0, 0}, "sphere inscribed in a cylinder");
+    worst = 0;
+    for (slong i = 0; r->n_curves == 1 && i < r->curve[0].n; i++)
+        worst = fmax(worst, fabs(r->curve[0].pt[i].xyz[2]));
+    CHECK(worst < 1e-12, "inscribed sphere: the contact is not the equator (%g)", worst);
+    cb_ssi_result_clear(r);
+    cb_analytic_surface co = cylinder(frame(1.5, 0, -2, 0, 0, 1), 0.5);
+    pair(r, &co, CYL, &c, SPH, (counts){0, 0, 0, 1, 0}, "cylinder touching a sphere outside");
+    cb_ssi_result_clear(r);
+    cb_analytic_surface ci = cylinder(frame(0.25, 0, -2, 0, 0, 1), 1.25);
+    pair(r, &ci, CYL, &c, SPH, (counts){0, 0, 0, 1, 0}, "sphere touching inside a cylinder");
+    cb_ssi_result_clear(r);
+    cb_analytic_surface cg = cylinder(frame(0.2, 0.1, -2, 0, 0, 1), 0.5);
+    pair(r, &cg, CYL, &c, SPH, (counts){2, 2, 0, 0, 0}, "cylinder through a sphere off axis");
+    CHECK(r->pairs_closed_form == 0, "off-axis cylinder x sphere: closed form used");
+    cb_ssi_result_clear(r);
+}
+
+/* ---------------------------------------------------------------- others ------------------- */
+
+static void test_others(void)
+{
+    cb_ssi_result_t r;
+    const double CONE[4] = {0, 2 * PI, 0, 2};
+    /* Cone of semi-angle pi/6 with apex at the origin (r = 0 at v = 0), axis z. */
+    cb_analytic_surface k = cone(frame(0, 0, 0, 0, 0, 1), 0, PI / 6);
+    cb_analytic_surface ph = plane(frame(0, 0, 1, 0, 0, 1));
+    pair(r, &ph, BOX, &k, CONE, (counts){1, 1, 0, 0, 0}, "plane across a cone's axis");
+    double worst = 0;
+    for (slong i = 0; r->n_curves == 1 && i < r->curve[0].n; i++) {
+        const double *X = r->curve[0].pt[i].xyz;
+        worst = fmax(worst, fabs(hypot(X[0], X[1]) - tan(PI / 6)));
+    }
+    CHECK(worst < 1e-12, "plane x cone: circle off by %g", worst);
+    cb_ssi_result_clear(r);
+    /* Planes through the apex: containing the axis (two rulings; on the nappe v >= 0 two
+     * rays from the apex, which join there into one open curve with a corner), tangent (one
+     * ruling of contact), steeper than the cone (only the apex). */
+    cb_analytic_surface pa = plane(frame(0, 0, 0, 1, 0, 0));
+    pair(r, &pa, BOX, &k, CONE, (counts){1, 0, 0, 0, 0}, "plane through a cone's axis");
+    const double apex[3] = {0, 0, 0};
+    CHECK(r->n_curves == 1 && d3(r->curve[0].pt[r->curve[0].n / 2].xyz, apex) < 1e-12,
+          "plane through a cone's axis: the corner is not at the apex");
+    cb_ssi_result_clear(r);
+    cb_analytic_surface pt = plane(frame(0, 0, 0, cos(PI / 6), 0, -sin(PI / 6)));
+    pair(r, &pt, BOX, &k, CONE, (counts){1, 0, 1, 0, 0}, "plane tangent to a cone");
+    cb_ssi_result_clear(r);
+    cb_analytic_surface pp = plane(frame(0, 0, 0, 0.2, 0, 1));
+    pair(r, &pp, BOX, &k, CONE, (counts){0, 0, 0, 1, 0}, "plane touching a cone's apex");
+    cb_ssi_result_clear(r);
+    /* An oblique plane off the apex: an ellipse by the general route. */
+    cb_analytic_surface po = plane(frame(0, 0, 1, 0.3, 0, 1));
+    pair(r, &po, BOX, &k, CONE, (counts){1, 1, 0, 0, 0}, "oblique plane x cone");
+    cb_ssi_result_clear(r);
+
+    /* Torus R = 2, r = 0.5 about z: the plane z = 0 gives the circles of radii 1.5 and 2.5,
+     * z = 0.5 the circle of contact of radius 2, a coaxial sphere of radius 2.5 touches the
+     * outer equator, a tilted plane two loops (general route). */
+    const double TOR[4] = {0, 2 * PI, 0, 2 * PI};
+    cb_analytic_surface t = torus(frame(0, 0, 0, 0, 0, 1), 2, 0.5);
+    cb_analytic_surface p0 = plane(frame(0, 0, 0, 0, 0, 1));
+    pair(r, &p0, BOX, &t, TOR, (counts){2, 2, 0, 0, 0}, "plane through a torus' equator");
+    cb_ssi_result_clear(r);
+    cb_analytic_surface p1 = plane(frame(0, 0, 0.5, 0, 0, 1));
+    pair(r, &p1, BOX, &t, TOR, (counts){1, 1, 1, 0, 0}, "plane on top of a torus");
+    cb_ssi_result_clear(r);
+    cb_analytic_surface so = sphere(frame(0, 0, 0, 0, 0, 1), 2.5);
+    pair(r, &so, SPH, &t, TOR, (counts){1, 1, 1, 0, 0}, "sphere around a torus, touching");
+    cb_ssi_result_clear(r);
+    cb_analytic_surface p2 = plane(frame(0, 0, 0.1, 0, 0.2, 1));
+    pair(r, &p2, BOX, &t, TOR, (counts){2, 2, 0, 0, 0}, "tilted plane x torus");
+    CHECK(r->pairs_closed_form == 0, "tilted plane x torus: closed form used");
+    cb_ssi_result_clear(r);
+}
+
+/* ---------------------------------------------------------------- NURBS forms -------------- */
+
+/* A planar bilinear patch whose plane meets a rational cylinder patch exactly on the latter's
+ * patch side (the circle at its axial end): the exact plane of the patch keeps the curve on the
+ * side, so it comes out whole (it used to fall apart into 7 pieces when the plane was rounded
+ * from the patch corners). */
+static void test_nurbs_plane_on_side(void)
+{
+    cb_error err;
+    cb_analytic_surface pl = plane(frame(-1, 0, 0, 1, 0, 0));
+    cb_analytic_surface cy = cylinder(frame(0, 0, 0.75, 1, 0, 0), 0.375);
+    cb_nurbs_surface_t pn, cn;
+    cb_nurbs_surface_init(pn);
+    cb_nurbs_surface_init(cn);
+    CHECK(cb_analytic_to_nurbs(pn, &pl, -1, 1, -1, 1, &err) == CB_OK, "%s", err.msg);
+    CHECK(cb_analytic_to_nurbs(cn, &cy, 0, 2 * PI, -3, -1, &err) == CB_OK, "%s", err.msg);
+    cb_ssi_surface A, B;
+    cb_ssi_surface_set_nurbs(&A, pn);
+    cb_ssi_surface_set_nurbs(&B, cn);
+    cb_ssi_opts o;
+    cb_ssi_opts_default(&o);
+    cb_ssi_result_t r;
+    cb_ssi_result_init(r);
+    CHECK(cb_ssi_surfaces(r, &A, &B, -1, -1, &o, &err) == CB_OK, "%s", err.msg);
+    /* The circle x = -1, (y, z - 0.75) of radius 0.375, clipped to z <= 1: one open arc. */
+    CHECK(r->n_curves == 1 && r->n_failed == 0 && !r->curve[0].closed,
+          "plane patch on a cylinder patch side: %ld curves, %ld failed", (long)r->n_curves,
+          (long)r->n_failed);
+    /* (The B-spline parameters of a rational arc are not its angles: distances only.) */
+    check_on(r, &pl, &cy, r->tol, 0, "plane patch on a cylinder patch side");
+    cb_ssi_result_clear(r);
+    /* The same plane as a patch against itself shifted within the plane: coincident. */
+    cb_nurbs_surface_t p2;
+    cb_nurbs_surface_init(p2);
+    CHECK(cb_analytic_to_nurbs(p2, &pl, -0.5, 1.5, 0, 2, &err) == CB_OK, "%s", err.msg);
+    cb_ssi_surface_set_nurbs(&B, p2);
+    cb_ssi_result_init(r);
+    CHECK(cb_ssi_surfaces(r, &A, &B, -1, -1, &o, &err) == CB_OK, "%s", err.msg);
+    CHECK(r->n_curves == 0 && r->n_failed == 0 && r->n_coincident == 1 &&
+              r->coincident[0].same_normal == 1 && r->coincident[0].whole == 1,
+          "coplanar patches: %ld curves, %ld failed, %ld coincident", (long)r->n_curves,
+          (long)r->n_failed, (long)r->n_coincident);
+    cb_ssi_result_clear(r);
+    cb_nurbs_surface_clear(pn);
+    cb_nurbs_surface_clear(p2);
+    cb_nurbs_surface_clear(cn);
+}
+
+/* Rational patches with rounded weights (cb_analytic_to_nurbs writes sqrt(2)/2): the
+ * subdivision route, certified, the same curves as the analytic surfaces. */
+static void test_rational_subdivision(void)
+{
+    cb_error err;
+    cb_analytic_surface s0 = sphere(frame(0, 0, 0, 0, 0, 1), 1.0);
+    cb_analytic_surface s1 = sphere(frame(0.6, 0.2, 0.1, 0.1, 0.2, 1), 0.8);
+    cb_analytic_surface t1 = torus(frame(0.6, 0.2, 0.1, 0, 0, 1), 1.0, 0.3);
+    cb_nurbs_surface_t n0, n1, n2;
+    cb_nurbs_surface_init(n0);
+    cb_nurbs_surface_init(n1);
+    cb_nurbs_surface_init(n2);
+    CHECK(cb_analytic_to_nurbs(n0, &s0, 0, 2 * PI, -PI / 2, PI / 2, &err) == CB_OK, "%s", err.msg);
+    CHECK(cb_analytic_to_nurbs(n1, &s1, 0, 2 * PI, -PI / 2, PI / 2, &err) == CB_OK, "%s", err.msg);
+    CHECK(cb_analytic_to_nurbs(n2, &t1, 0, 2 * PI, 0, 2 * PI, &err) == CB_OK, "%s", err.msg);
+    const cb_nurbs_surface_struct *other[2] = {n1, n2};
+    const cb_analytic_surface *an[2] = {&s1, &t1};
+    const int want[2] = {1, 2};
+    const char *name[2] = {"rational sphere x sphere", "rational sphere x torus"};
+    for (int k = 0; k < 2; k++) {
+        cb_ssi_surface A, B;
+        cb_ssi_surface_set_nurbs(&A, n0);
+        cb_ssi_surface_set_nurbs(&B, other[k]);
+        cb_ssi_opts o;
+        cb_ssi_opts_default(&o);
+        cb_ssi_result_t r;
+        cb_ssi_result_init(r);
+        CHECK(cb_ssi_surfaces(r, &A, &B, -1, -1, &o, &err) == CB_OK, "%s", err.msg);
+        int closed = 0;
+        for (slong c = 0; c < r->n_curves; c++)
+            closed += r->curve[c].closed;
+        CHECK(r->n_failed == 0 && r->n_curves == want[k] && closed == want[k] &&
+                  r->pairs_subdivided > 0,
+              "%s: %ld curves (%d closed), %ld failed, %ld subdivided (expected %d closed)",
+              name[k], (long)r->n_curves, closed, (long)r->n_failed, (long)r->pairs_subdivided,
+              want[k]);
+        /* Points on the exact analytic surfaces up to the weights' rounding (~1e-16). */
+        double worst = 0;
+        for (slong c = 0; c < r->n_curves; c++)
+            for (slong i = 0; i < r->curve[c].n; i++)
+                worst = fmax(worst, fmax(dist_to(&s0, r->curve[c].pt[i].xyz),
+                                         dist_to(an[k], r->curve[c].pt[i].xyz)));
+        CHECK(worst <= r->tol, "%s: a point %g from a surface", name[k], worst);
+        cb_ssi_result_clear(r);
+    }
+    cb_nurbs_surface_clear(n0);
+    cb_nurbs_surface_clear(n1);
+    cb_nurbs_surface_clear(n2);
+}
+
+/* ---------------------------------------------------------------- Cardan scenarios --------- */
+
+/* Expected per scenario (derived in the comments of test_cardan): curves, closed, tangential,
+ * isolated points, coincident face pairs, and same_face_normal of the coincident pairs. */
+static const struct {
+    counts c;
+    int same_face;
+} CARDAN[6] = {
+    {{6, 6, 0, 0, 2}, 0},  /* cross_in_yoke */
+    {{3, 1, 1, 0, 0}, -1}, /* cross_on_base */
+    {{4, 1, 0, 0, 0}, -1}, /* cross_into_base */
+    {{5, 5, 0, 0, 2}, 0},  /* cross_through_yoke */
+    {{40, 0, 0, 0, 2}, 1}, /* two_crosses */
+    {{28, 0, 4, 0, 8}, 1}, /* crosses_stacked */
+};
+
+static int same_result(const cb_ssi_result_t a, const cb_ssi_result_t b)
+{
+    if (a->n_curves != b->n_curves || a->n_points != b->n_points ||
+        a->n_coincident != b->n_coincident || a->n_failed != b->n_failed)
+        return 0;
+    for (slong c = 0; c < a->n_curves; c++) {
+        const cb_ssi_curve *x = a->curve + c, *y = b->curve + c;
+        if (x->n != y->n || x->closed != y->closed || x->tangential != y->tangential ||
+            x->face_a != y->face_a || x->face_b != y->face_b ||
+            memcmp(x->pt, y->pt, (size_t)x->n * sizeof(cb_ssi_point)))
+            return 0;
+    }
+    for (slong k = 0; k < a->n_points; k++) {
+        const cb_ssi_isolated *x = a->point + k, *y = b->point + k;
+        if (memcmp(&x->p, &y->p, sizeof x->p) || x->tangential != y->tangential ||
+            x->face_a != y->face_a || x->face_b != y->face_b)
+            return 0;
+    }
+    for (slong k = 0; k < a->n_coincident; k++) {
+        const cb_ssi_coincident *x = a->coincident + k, *y = b->coincident + k;
+        if (x->face_a != y->face_a || x->face_b != y->face_b || x->patch_a != y->patch_a ||
+            x->patch_b != y->patch_b || x->patch_pairs != y->patch_pairs ||
+            x->whole != y->whole || x->same_normal != y->same_normal ||
+            x->same_face_normal != y->same_face_normal || memcmp(x->xyz, y->xyz, sizeof x->xyz))
+            return 0;
+    }
+    return 1;
+}
+
+/* A table of the face pairs with their curves (o closed, - open, t tangential), points (p) and
+ * coincidences (C), to compare the analytic and the B-spline parts face pair by face pair. */
+static void face_table(char *out, size_t cap, const cb_ssi_result_t r)
+{
+    out[0] = 0;
+    size_t len = 0;
+    for (int fa = 0; fa < 16; fa++)
+        for (int fb = 0; fb < 16; fb++) {
+            char cell[64];
+            int n = 0;
+            for (slong c = 0; c < r->n_curves && n < 40; c++)
+                if (r->curve[c].face_a == fa && r->curve[c].face_b == fb)
+                    n += snprintf(cell + n, sizeof cell - (size_t)n, "%s%s",
+                                  r->curve[c].closed ? "o" : "-",
+                                  r->curve[c].tangential ? "t" : "");
+            for (slong k = 0; k < r->n_points && n < 40; k++)
+                if (r->point[k].face_a == fa && r->point[k].face_b == fb)
+                    n += snprintf(cell + n, sizeof cell - (size_t)n, "p");
+            for (slong k = 0; k < r->n_coincident && n < 40; k++)
+                if (r->coincident[k].face_a == fa && r->coincident[k].face_b == fb)
+                    n += snprintf(cell + n, sizeof cell - (size_t)n, "C%d",
+                                  r->coincident[k].same_face_normal);
+            if (n && len + 80 < cap)
+                len += (size_t)snprintf(out + len, cap - len, "%d/%d:%s ", fa, fb, cell);
+        }
+}
+
+/* Every scenario with both parts analytic and both as exact rational B-splines: nothing
+ * uncertified, the counts derived below, the same face-pair table for both forms, points on
+ * both faces, and the same output on 1 and 2 threads.
+ *
+ * Counts (faces are bounded by their parameter boxes, so a plane face includes its holes):
+ * 0 cross_in_yoke: each x arm crosses the two planes of its yoke arm (x = +-1.5, +-2.5) in a
+ *   circle (4), each y arm the yoke's U-shaped end plane y = -+2 in a circle (2): 6 closed;
+ *   the x arms and the bores coincide (2, solid on either side: face normals opposite); the
+ *   cube's top z = 4 is coplanar with the arms' tops but their boxes do not meet.
+ * 1 cross_on_base: the -y arm lies on the base top z = 1 along x = 0 (1 tangential line, y in
+ *   [1/2, 2]); its cap y = 1/2 meets that plane in a line along the cap box's bottom (1 open);
+ *   it crosses the end plane y = 2 in a circle (1 closed).
+ * 2 cross_into_base: lowered by 1/4, the arm cuts the base top in two lines (x = +-0.354),
+ *   the cap in one line, the end plane y = 2 in a circle: 3 open, 1 closed.
+ * 3 cross_through_yoke: the 4 circles of 0, the -y arm's oblique section by the base top (an
+ *   ellipse inside it): 5 closed; the bores coincide with the x arms (2).
+ * 4 two_crosses: each side face of one cube meets two side faces of the other in vertical
+ *   lines and its top and bottom in lines along the edges (4 x 4 + 4 x 2 = 24); each arm of one
+ *   crosses two side faces of the other cube in half ellipses (8 + 8): 40 open; the tops and
+ *   bottoms coincide (2, same orientation).
+ * 5 crosses_stacked: each side face of A meets the two adjacent side faces of B in vertical
+ *   edge lines and B's bottom in a line (4 x 3), A's top meets B's four sides (4); each arm's
+ *   root circle is cut by the top (bottom) of the other cube's face box (4 + 4 arcs); the
+ *   parallel arms touch along lines (4 tangential): 28 open; the four side faces and the four
+ *   caps are coplanar (8, same orientation). */
+static void test_cardan(void)
+{
+    for (int k = 0; k < cb_cardan_scenario_count(); k++) {
+        char table[2][4096];
+        for (int nurbs = 0; nurbs < 2; nurbs++) {
+            cb_cardan_scenario s;
+            cb_error err;
+            cb_error_clear(&err);
+            CHECK(cb_cardan_scenario_get(&s, k, &err) == CB_OK, "scenario %d: %s", k, err.msg);
+            s.a.as_nurbs = s.b.as_nurbs = nurbs;
+            cb_topo_body *A = NULL, *B = NULL;
+            if (cb_model_cardan(&A, &s.a, &err) != CB_OK ||
+                cb_model_cardan(&B, &s.b, &err) != CB_OK) {
+                CHECK(0, "%s: parts: %s", s.name, err.msg);
+                cb_topo_body_free(A);
+                return;
+            }
+            cb_ssi_result_t r[2];
+            for (int t = 0; t < 2; t++) {
+                cb_ssi_opts o;
+                cb_ssi_opts_default(&o);
+                o.threads = t + 1;
+                cb_ssi_result_init(r[t]);
+                cb_status st = cb_ssi_bodies(r[t], A, B, &o, &err);
+                CHECK(st == CB_OK, "%s: %s", s.name, err.msg);
+            }
+            const char *form = nurbs ? "as_nurbs" : "analytic";
+            counts got = count(r[0]), want = CARDAN[k].c;
+            CHECK(r[0]->n_failed == 0 && r[0]->status == CB_OK,
+                  "%s %s: %ld uncertified face pairs (%s)", s.name, form, (long)r[0]->n_failed,
+                  r[0]->n_failed ? r[0]->failed[0].msg : "");
+            CHECK(got.curves == want.curves && got.closed == want.closed &&
+                      got.tangential == want.tangential && got.points == want.points &&
+                      got.coincident == want.coincident,
+                  "%s %s: curves %d (closed %d, tangential %d), points %d, coincident %d; "
+                  "expected %d (%d, %d), %d, %d",
+                  s.name, form, got.curves, got.closed, got.tangential, got.points,
+                  got.coincident, want.curves, want.closed, want.tangential, want.points,
+                  want.coincident);
+            for (slong c = 0; c < r[0]->n_coincident; c++)
+                CHECK(r[0]->coincident[c].same_face_normal == CARDAN[k].same_face &&
+                          r[0]->coincident[c].same_normal == 1,
+                      "%s %s: coincident faces %d, %d: same_face_normal %d, same_normal %d",
+                      s.name, form, r[0]->coincident[c].face_a, r[0]->coincident[c].face_b,
+                      r[0]->coincident[c].same_face_normal, r[0]->coincident[c].same_normal);
+            CHECK(r[0]->max_dist_a <= r[0]->tol && r[0]->max_dist_b <= r[0]->tol,
+                  "%s %s: points %g, %g from the faces (tol %g)", s.name, form,
+                  r[0]->max_dist_a, r[0]->max_dist_b, r[0]->tol);
+            CHECK(same_result(r[0], r[1]), "%s %s: 1 and 2 threads differ", s.name, form);
+            face_table(table[nurbs], sizeof table[nurbs], r[0]);
+            printf("%-20s %s: %ld curves, %ld points, %ld coincident, %ld pairs (%ld closed "
+                   "form, %ld subdivided), %.3f s topology + tracing\n",
+                   s.name, form, (long)r[0]->n_curves, (long)r[0]->n_points,
+                   (long)r[0]->n_coincident, (long)r[0]->pairs_total,
+                   (long)r[0]->pairs_closed_form, (long)r[0]->pairs_subdivided,
+                   r[0]->time_topo + r[0]->time_trace);
+            cb_ssi_result_clear(r[0]);
+            cb_ssi_result_clear(r[1]);
+            cb_topo_body_free(A);
+            cb_topo_body_free(B);
+        }
+        CHECK(!strcmp(table[0], table[1]), "scenario %d: analytic and as_nurbs differ:\n  %s\n  %s",
+              k, table[0], table[1]);
+    }
+}
+
+/* Primitives (brep/prim.h) through cb_ssi_bodies: a sphere in a coaxial cylinder of its radius
+ * touches the side along the equator (tangential), crosses the bottom disc's plane in the
+ * equator and touches the top disc at the pole. */
+static void test_prim_bodies(void)
+{
+    cb_error err;
+    cb_frame f = frame(0, 0, 0, 0, 0, 1);
+    cb_topo_body *s = NULL, *c = NULL;
+    CHECK(cb_prim_sphere(&s, &f, 1.0, 0, 0, &err) == CB_OK, "%s", err.msg);
+    CHECK(cb_prim_cylinder(&c, &f, 1.0, 1.0, 0, 0, &err) == CB_OK, "%s", err.msg);
+    if (!s || !c) {
+        cb_topo_body_free(s);
+        cb_topo_body_free(c);
+        return;
+    }
+    cb_ssi_opts o;
+    cb_ssi_opts_default(&o);
+    cb_ssi_result_t r;
+    cb_ssi_result_init(r);
+    CHECK(cb_ssi_bodies(r, s, c, &o, &err) == CB_OK, "%s", err.msg);
+    counts k = count(r);
+    CHECK(r->n_failed == 0 && k.curves == 2 && k.closed == 2 && k.tangential == 1 &&
+              k.points == 1 && k.coincident == 0,
+          "sphere in cylinder: curves %d (closed %d, tangential %d), points %d, failed %ld",
+          k.curves, k.closed, k.tangential, k.points, (long)r->n_failed);
+    cb_ssi_result_clear(r);
+    cb_topo_body_free(s);
+    cb_topo_body_free(c);
+}
+
+int main(void)
+{
+    test_plane_plane();
+    test_plane_cylinder();
+    test_cylinder_cylinder();
+    test_spheres();
+    test_others();
+    test_nurbs_plane_on_side();
+    test_rational_subdivision();
+    test_cardan();
+    test_prim_bodies();
+    return check_report("test_ssi_analytic");
+}
