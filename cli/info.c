@@ -5,6 +5,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "brep/mass.h"
 #include "brep/nurbs.h"
 #include "brep/topo.h"
 #include "cli/commands.h"
@@ -13,29 +14,39 @@
 #include "io/json.h"
 
 static const char INFO_USAGE[] =
-    "usage: colibri info FILE [--json] [--tol T]\n"
+    "usage: colibri info FILE [--json] [--tol T] [--no-mass]\n"
     "\n"
     "Loads a model and prints what it holds.\n"
     "Formats, by extension:\n"
     "  .step, .stp  STEP B-rep: counts of solids, shells, faces, edges, vertices, surface\n"
     "               types, the bounding box of the edges (in the file's length unit), and a\n"
-    "               topology validation (closed shells, closed loops, edges on their faces)\n"
+    "               topology validation (closed shells, closed loops, edges on their faces),\n"
+    "               and the volume and area (exact integrals over the trimmed faces,\n"
+    "               brep/mass.h, to about 1e-9 relative), or why they cannot be integrated\n"
+    "               (an open shell, loops that do not close)\n"
     "  .bpt         Bezier patch text (e.g. the Newell teapot): patches, degrees, points\n"
     "\n"
     "options:\n"
-    "  --json   print one JSON object instead of text; for STEP it has the keys solids,\n"
-    "           shells, faces, edges, vertices, surface_types (name -> count), bbox\n"
-    "           ([xmin, ymin, zmin, xmax, ymax, zmax]), unit_mm, tolerance, valid, problems\n"
-    "           (list of strings), the largest deviations measured, edges_tol_raised,\n"
-    "           edges_over_cap, max_edge_tol and edge_tol_cap\n"
-    "  --tol T  validation tolerance in model units (default: the file's uncertainty); each\n"
-    "           edge is checked against the larger of T and its own tolerance\n"
+    "  --json     print one JSON object instead of text; for STEP it has the keys solids,\n"
+    "             shells, faces, edges, vertices, surface_types (name -> count), bbox\n"
+    "             ([xmin, ymin, zmin, xmax, ymax, zmax]), unit_mm, tolerance, valid,\n"
+    "             problems (list of strings), the largest deviations measured,\n"
+    "             edges_tol_raised, edges_over_cap, max_edge_tol, edge_tol_cap, volume and\n"
+    "             area (model units^3 and ^2; null when they are not integrated, the reason\n"
+    "             then in mass_error, else null)\n"
+    "  --tol T    validation tolerance in model units (default: the file's uncertainty);\n"
+    "             each edge is checked against the larger of T and its own tolerance\n"
+    "  --no-mass  skip the volume and area (they take about a second on a few dozen\n"
+    "             B-spline faces)\n"
     "\n"
     "Edge tolerances: files often hold edges farther from their faces than the uncertainty\n"
     "they declare. The reader measures each edge's deviation from its faces, vertices and\n"
     "pcurves and raises the edge's tolerance to it (plus 5%), up to a cap of 1e-4 of the\n"
     "diagonal of the model's box; an edge beyond the cap keeps the file's tolerance and is\n"
     "reported. The summary says how many edges were raised and the largest edge tolerance.\n"
+    "\n"
+    "Volume and area are in the file's length unit (mm^3 and mm^2, cm^3, in^3, ...); whether\n"
+    "they could be integrated does not change the exit status.\n"
     "\n"
     "Exit status: 0 the model was read (and, for STEP, is valid), 1 the model was read but\n"
     "validation found problems, 2 bad usage or an input that cannot be used (missing,\n"
@@ -93,8 +104,50 @@ static int info_bpt(const char *path, int json)
     return 0;
 }
 
+/* Relative accuracy asked of the volume and area: the ten digits printed (CB_MASS_REL_TOL's
+ * 1e-10 takes ten times longer on trj5's B-splines for the same digits). */
+#define INFO_MASS_REL_TOL 1e-9
+
+/* Volume and area of a body, or why they could not be integrated. */
+typedef struct {
+    int ok, skipped; /* skipped: --no-mass */
+    double volume, area; /* model units^3, ^2 */
+    char error[CB_ERROR_MSG_LEN];
+} info_mass;
+
+static void info_mass_compute(info_mass *m, const cb_topo_body *b)
+{
+    cb_error err;
+    cb_error_clear(&err);
+    cb_mass_props p = {0};
+    cb_status st = b->n_shells > 0
+                       ? cb_mass_body(&p, b, INFO_MASS_REL_TOL, NULL, &err)
+                       : cb_error_set(&err, CB_ERR_INVALID, "mass: the model has no shell");
+    m->skipped = 0;
+    m->ok = st == CB_OK && isfinite(p.volume) && isfinite(p.area);
+    m->volume = m->ok ? p.volume : 0;
+    m->area = m->ok ? p.area : 0;
+    snprintf(m->error, sizeof m->error, "%s",
+             m->ok ? "" : st ? err.msg : "mass: the integrals are not finite");
+}
+
+/* The name of a length unit of mm millimetres, NULL if it has none here. */
+static const char *unit_name(double mm)
+{
+    static const struct {
+        double mm;
+        const char *name;
+    } units[] = {{1, "mm"},    {10, "cm"},   {1000, "m"},    {1e6, "km"},
+                 {1e-3, "um"}, {1e-6, "nm"}, {25.4, "in"},   {304.8, "ft"}};
+    for (size_t k = 0; k < sizeof units / sizeof units[0]; k++)
+        if (fabs(mm - units[k].mm) <= 1e-12 * units[k].mm)
+            return units[k].name;
+    return NULL;
+}
+
 static void print_step_json(const char *path, const cb_topo_body *b, const cb_aabb *box,
-                            const cb_topo_report *r, double tol, const cb_step_stats *ts)
+                            const cb_topo_report *r, double tol, const cb_step_stats *ts,
+                            const info_mass *m)
 {
     const char *names[8];
     int counts[8], nt = cb_topo_body_surface_types(names, counts, b);
@@ -116,13 +169,34 @@ static void print_step_json(const char *path, const cb_topo_body *b, const cb_aa
     printf("], \"problems_not_listed\": %d, \"max_edge_surface_deviation\": %.17g, "
            "\"max_loop_gap\": %.17g, \"max_edge_vertex_deviation\": %.17g, "
            "\"edges_tol_raised\": %d, \"edges_over_cap\": %d, \"max_edge_tol\": %.17g, "
-           "\"edge_tol_cap\": %.17g}\n",
+           "\"edge_tol_cap\": %.17g, ",
            r->dropped, r->max_edge_surface, r->max_loop_gap, r->max_edge_vertex,
            ts->edges_tol_raised, ts->edges_over_cap, ts->max_edge_tol, ts->edge_tol_cap);
+    if (m->ok) {
+        printf("\"volume\": %.17g, \"area\": %.17g, \"mass_error\": null}\n", m->volume, m->area);
+        return;
+    }
+    fputs("\"volume\": null, \"area\": null, \"mass_error\": ", stdout);
+    cb_json_string(stdout, m->error);
+    fputs("}\n", stdout);
+}
+
+/* The volume and area in the body's unit (unit_mm millimetres), or why they are missing. */
+static void print_mass_text(const info_mass *m, double unit_mm)
+{
+    const char *unit = unit_name(unit_mm);
+    if (!m->ok)
+        printf("volume, area: not integrated (%s)\n", m->error);
+    else if (unit)
+        printf("volume %.10g %s^3, area %.10g %s^2\n", m->volume, unit, m->area, unit);
+    else
+        printf("volume %.10g units^3, area %.10g units^2 (unit %g mm)\n", m->volume, m->area,
+               unit_mm);
 }
 
 static void print_step_text(const char *path, const cb_topo_body *b, const cb_aabb *box,
-                            const cb_topo_report *r, double tol, const cb_step_stats *ts)
+                            const cb_topo_report *r, double tol, const cb_step_stats *ts,
+                            const info_mass *m)
 {
     const char *names[8];
     int counts[8], nt = cb_topo_body_surface_types(names, counts, b);
@@ -134,6 +208,8 @@ static void print_step_text(const char *path, const cb_topo_body *b, const cb_aa
         printf(" %s %d%s", names[k], counts[k], k + 1 < nt ? "," : "");
     printf("\nbounding box of the edges: [%g, %g] x [%g, %g] x [%g, %g] (unit %g mm)\n", box->lo[0],
            box->hi[0], box->lo[1], box->hi[1], box->lo[2], box->hi[2], b->length_unit_mm);
+    if (!m->skipped)
+        print_mass_text(m, b->length_unit_mm);
     printf("largest deviations: edge-surface %.3g, loop gap %.3g, edge-vertex %.3g\n",
            r->max_edge_surface, r->max_loop_gap, r->max_edge_vertex);
     printf("edge tolerances: %d raised above the file's %g, largest %.3g (cap %.3g)",
@@ -154,7 +230,7 @@ static void print_step_text(const char *path, const cb_topo_body *b, const cb_aa
         printf("  ... and %d more\n", r->n + r->dropped - 20);
 }
 
-static int info_step(const char *path, int json, double tol)
+static int info_step(const char *path, int json, double tol, int mass)
 {
     cb_error err;
     cb_error_clear(&err);
@@ -177,10 +253,13 @@ static int info_step(const char *path, int json, double tol)
     }
     cb_aabb box;
     cb_topo_body_edge_box(&box, b);
+    info_mass m = {0, 1, 0, 0, "not computed (--no-mass)"};
+    if (mass)
+        info_mass_compute(&m, b);
     if (json)
-        print_step_json(path, b, &box, &r, tol, &ts);
+        print_step_json(path, b, &box, &r, tol, &ts, &m);
     else
-        print_step_text(path, b, &box, &r, tol, &ts);
+        print_step_text(path, b, &box, &r, tol, &ts, &m);
     int code = r.n ? 1 : 0;
     cb_topo_report_clear(&r);
     cb_topo_body_free(b);
@@ -190,7 +269,7 @@ static int info_step(const char *path, int json, double tol)
 int cb_cli_info(int argc, char **argv)
 {
     const char *path = NULL;
-    int json = 0;
+    int json = 0, mass = 1;
     double tol = 0;
     for (int k = 1; k < argc; k++) {
         if (!strcmp(argv[k], "--help")) {
@@ -199,6 +278,8 @@ int cb_cli_info(int argc, char **argv)
         }
         if (!strcmp(argv[k], "--json")) {
             json = 1;
+        } else if (!strcmp(argv[k], "--no-mass")) {
+            mass = 0;
         } else if (!strcmp(argv[k], "--tol") && k + 1 < argc) {
             char *end;
             tol = strtod(argv[++k], &end);
@@ -220,7 +301,7 @@ int cb_cli_info(int argc, char **argv)
     if (has_extension(path, "bpt"))
         return info_bpt(path, json);
     if (has_extension(path, "step") || has_extension(path, "stp"))
-        return info_step(path, json, tol);
+        return info_step(path, json, tol, mass);
     fprintf(stderr, "colibri: %s: unknown model format (known: .step, .stp, .bpt)\n", path);
     return 2;
 }

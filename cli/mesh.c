@@ -16,7 +16,7 @@
 #include "io/step.h"
 
 static const char MESH_USAGE[] =
-    "usage: colibri mesh MODEL -o OUT [--tol T] [--json]\n"
+    "usage: colibri mesh MODEL -o OUT [--tol T] [--json] [--threads N] [--quiet]\n"
     "\n"
     "Tessellates a STEP B-rep model (.step, .stp) into a watertight triangle mesh, checks it\n"
     "as 'colibri check' does (closed, manifold, oriented, self-intersections, bounds a volume,\n"
@@ -26,14 +26,18 @@ static const char MESH_USAGE[] =
     "the normals within 20 degrees.\n"
     "\n"
     "options:\n"
-    "  -o OUT   the mesh file to write (required)\n"
-    "  --tol T  chordal tolerance in model units (default: 1e-3 of the diagonal of the\n"
-    "           model's edge box)\n"
-    "  --json   print one JSON object with the keys file, output, tolerance, unit_mm,\n"
-    "           vertices, triangles, volume (model units^3), closed, manifold, oriented,\n"
-    "           self_intersections, bounds_volume, outward, passed, seconds\n"
+    "  -o OUT       the mesh file to write (required)\n"
+    "  --tol T      chordal tolerance in model units (default: 1e-3 of the diagonal of the\n"
+    "               model's edge box)\n"
+    "  --json       print one JSON object with the keys file, output, tolerance, unit_mm,\n"
+    "               vertices, triangles, volume (model units^3), closed, manifold,\n"
+    "               oriented, self_intersections, bounds_volume, outward, passed, seconds\n"
+    "  --threads N  tessellate on at most N threads (default 0: all hardware threads; the\n"
+    "               mesh is the same for any N)\n"
+    "  --quiet      no progress and no text summary (the exit status tells; --json still\n"
+    "               prints its object); errors still go to stderr\n"
     "\n"
-    "Progress goes to stderr when stderr is a terminal.\n"
+    "Progress goes to stderr when stderr is a terminal (and --quiet is not given).\n"
     "Exit status: 0 the mesh passed every check and was written, 1 the mesh failed a check or\n"
     "could not be made or written, 2 bad usage or an unreadable or malformed model.\n"
     "\n"
@@ -110,7 +114,7 @@ static double seconds_now(void)
 int cb_cli_mesh(int argc, char **argv)
 {
     const char *path = NULL, *out = NULL;
-    int json = 0;
+    int json = 0, quiet = 0, threads = 0;
     double tol = 0;
     for (int k = 1; k < argc; k++) {
         if (!strcmp(argv[k], "--help")) {
@@ -119,6 +123,17 @@ int cb_cli_mesh(int argc, char **argv)
         }
         if (!strcmp(argv[k], "--json")) {
             json = 1;
+        } else if (!strcmp(argv[k], "--quiet")) {
+            quiet = 1;
+        } else if (!strcmp(argv[k], "--threads") && k + 1 < argc) {
+            char *end;
+            long n = strtol(argv[++k], &end, 10);
+            if (end == argv[k] || *end || n < 0 || n > 4096) {
+                fprintf(stderr, "colibri: --threads needs a count in [0, 4096], not '%s'\n",
+                        argv[k]);
+                return 2;
+            }
+            threads = (int)n;
         } else if (!strcmp(argv[k], "-o") && k + 1 < argc) {
             out = argv[++k];
         } else if (!strcmp(argv[k], "--tol") && k + 1 < argc) {
@@ -158,7 +173,8 @@ int cb_cli_mesh(int argc, char **argv)
     }
     cb_context ctx;
     cb_context_init(&ctx);
-    int tty = isatty(STDERR_FILENO), shown = -1;
+    ctx.threads = threads;
+    int tty = !quiet && isatty(STDERR_FILENO), shown = -1;
     if (tty) {
         ctx.progress = show_progress;
         ctx.user = &shown;
@@ -191,7 +207,7 @@ int cb_cli_mesh(int argc, char **argv)
     } else {
         if (json)
             print_json(path, out, ro.chord_tol, b, m, &r, seconds);
-        else
+        else if (!quiet)
             print_text(path, out, ro.chord_tol, b, m, &r);
         code = cb_mesh_check_passed(&r) ? 0 : 1;
     }

@@ -1,4 +1,5 @@
 /* colibri ssi: intersection curves of the faces of two STEP models. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,12 +11,14 @@
 #include "io/json.h"
 
 static const char SSI_USAGE[] =
-    "usage: colibri ssi A.step B.step [--json OUT.json] [--tol T] [--threads N]\n"
+    "usage: colibri ssi A.step B.step [--json OUT.json] [--tol T] [--threads N] [--quiet]\n"
     "\n"
     "Intersects every face of A with every face of B whose boxes overlap, with the\n"
     "topology-guaranteed surface/surface intersection, and prints the counts: curves,\n"
     "isolated points, face pairs, patch pairs (culled by boxes, proved empty, certified, not\n"
-    "certified), the largest distance of an output point to each surface, and timings.\n"
+    "certified), the patch pairs taken by the subdivision route (B-spline pairs) and the\n"
+    "sub-patch pairs it examined, the largest distance of an output point to each surface,\n"
+    "and timings.\n"
     "Handled and tested: analytic (plane, cylinder, cone, sphere, torus) against B-spline\n"
     "faces. B-spline pairs of low degree take the same path but are not tested yet.\n"
     "Curves are clipped to the faces' parameter boxes, not to their trimming loops. Pairs\n"
@@ -29,6 +32,8 @@ static const char SSI_USAGE[] =
     "  --tol T      distance of every output point to both surfaces (default 1e-6 times\n"
     "               the diagonal of the models' box)\n"
     "  --threads N  threads for patch pairs (default 0: all hardware threads)\n"
+    "  --quiet      print nothing on stdout (the exit status and --json OUT still tell);\n"
+    "               errors still go to stderr\n"
     "\n"
     "Exit status: 0 every pair was certified, 1 the work failed (numerically or unsupported)\n"
     "or some pair could not be certified, 2 bad usage or a file that cannot be used (missing,\n"
@@ -111,7 +116,7 @@ static int write_json(const char *path, const cb_ssi_result_t r, double t)
 int cb_cli_ssi(int argc, char **argv)
 {
     const char *files[2] = {NULL, NULL}, *json = NULL;
-    int nfiles = 0;
+    int nfiles = 0, quiet = 0;
     cb_ssi_opts o;
     cb_ssi_opts_default(&o);
     for (int i = 1; i < argc; i++) {
@@ -124,7 +129,7 @@ int cb_cli_ssi(int argc, char **argv)
         } else if (!strcmp(a, "--tol") && i + 1 < argc) {
             char *end;
             o.tol = strtod(argv[++i], &end);
-            if (*end || !(o.tol > 0)) {
+            if (*end || !(o.tol > 0) || !isfinite(o.tol)) {
                 fprintf(stderr, "colibri ssi: --tol needs a positive number, got '%s'\n",
                         argv[i]);
                 return 2;
@@ -132,12 +137,14 @@ int cb_cli_ssi(int argc, char **argv)
         } else if (!strcmp(a, "--threads") && i + 1 < argc) {
             char *end;
             long n = strtol(argv[++i], &end, 10);
-            if (*end || n < 0 || n > 4096) {
-                fprintf(stderr, "colibri ssi: --threads needs a count >= 0, got '%s'\n",
+            if (end == argv[i] || *end || n < 0 || n > 4096) {
+                fprintf(stderr, "colibri ssi: --threads needs a count in [0, 4096], got '%s'\n",
                         argv[i]);
                 return 2;
             }
             o.threads = (int)n;
+        } else if (!strcmp(a, "--quiet")) {
+            quiet = 1;
         } else if (a[0] == '-') {
             fprintf(stderr, "colibri ssi: unknown or incomplete option '%s'\n%s", a, SSI_USAGE);
             return 2;
@@ -174,7 +181,7 @@ int cb_cli_ssi(int argc, char **argv)
     if (st != CB_OK) {
         fprintf(stderr, "colibri ssi: %s\n", err.msg);
         rc = 1;
-    } else {
+    } else if (!quiet) {
         slong npts = 0;
         for (slong c = 0; c < r->n_curves; c++)
             npts += r->curve[c].n;
@@ -185,6 +192,8 @@ int cb_cli_ssi(int argc, char **argv)
                "not certified %ld\n",
                (long)r->pairs_total, (long)r->pairs_culled, (long)r->pairs_empty,
                (long)r->pairs_certified, (long)r->n_failed);
+        printf("subdivision      %ld patch pairs, %ld sub-patch pairs examined\n",
+               (long)r->pairs_subdivided, (long)r->subpairs);
         printf("tolerance        %.3g (max distance to A %.3g, to B %.3g)\n", r->tol,
                r->max_dist_a, r->max_dist_b);
         printf("time             read %.3f s, intersect %.3f s (topology %.3f s, tracing "
@@ -196,6 +205,8 @@ int cb_cli_ssi(int argc, char **argv)
                    cb_status_name(r->failed[k].status), r->failed[k].msg);
         if (r->n_failed > 20)
             printf("not certified    ... %ld more (see --json)\n", (long)r->n_failed - 20);
+    }
+    if (st == CB_OK) {
         if (r->n_failed > 0)
             rc = 1;
         if (json && !write_json(json, r, t2 - t1))

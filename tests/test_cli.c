@@ -1,14 +1,19 @@
 /* The colibri command: exit codes and messages of every command (binary from COLIBRI_BINARY).
  * Exit status: 0 success, 1 a negative verdict (invalid model, failed check), 2 bad usage or an
- * input that cannot be used. */
+ * input that cannot be used. Also: `colibri info`'s volume and area against Open CASCADE's
+ * figures; `colibri model cardan`'s files read back against the closed-form volumes and its
+ * reference table against models/reference.json; the --quiet and --threads flags of ssi. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
+#include "brep/mass.h"
 #include "check.h"
 #include "check_cli.h"
+#include "io/step.h"
+#include "models/models.h"
 
 /* The number after "key": in the output of the last run (NaN if absent). */
 static double json_number(const char *key)
@@ -19,8 +24,8 @@ static double json_number(const char *key)
     return at ? strtod(at + strlen(pat), NULL) : NAN;
 }
 
-/* The whole of a file, NUL-terminated (NULL if it cannot be read). */
-static char *slurp(const char *path)
+/* The whole of a file, NUL-terminated (NULL if it cannot be read); *size its length. */
+static char *slurp_size(const char *path, size_t *size)
 {
     FILE *f = fopen(path, "rb");
     if (!f)
@@ -39,7 +44,29 @@ static char *slurp(const char *path)
     fclose(f);
     if (text)
         text[len] = '\0';
+    *size = len;
     return text;
+}
+
+static char *slurp(const char *path)
+{
+    size_t size;
+    return slurp_size(path, &size);
+}
+
+/* text with the first `from` replaced by `to`, in a new string (NULL if from is missing). */
+static char *replaced(const char *text, const char *from, const char *to)
+{
+    const char *at = strstr(text, from);
+    CHECK(at != NULL, "test setup: '%s' not in the model", from);
+    if (!at)
+        return NULL;
+    size_t head = (size_t)(at - text);
+    char *out = malloc(strlen(text) - strlen(from) + strlen(to) + 1);
+    memcpy(out, text, head);
+    strcpy(out + head, to);
+    strcat(out, at + strlen(from));
+    return out;
 }
 
 static void write_file(const char *path, const char *data, size_t len)
@@ -57,16 +84,10 @@ static void write_file(const char *path, const char *data, size_t len)
 static void info_corrupted(const char *path, const char *text, const char *from, const char *to,
                            int code, const char *want)
 {
-    const char *at = strstr(text, from);
-    CHECK(at != NULL, "test setup: '%s' not in the model", from);
-    if (!at)
+    char *out = replaced(text, from, to);
+    if (!out)
         return;
-    size_t head = (size_t)(at - text), len = strlen(text) - strlen(from) + strlen(to);
-    char *out = malloc(len + 1);
-    memcpy(out, text, head);
-    strcpy(out + head, to);
-    strcat(out, at + strlen(from));
-    write_file(path, out, len);
+    write_file(path, out, strlen(out));
     free(out);
     char args[1200], msg[1200];
     snprintf(args, sizeof args, "info %s", path);
@@ -145,6 +166,8 @@ static void test_bad_step(const char *sh)
     snprintf(args, sizeof args, "info %s --json", path);
     cli_expect(args, 1, "\"valid\": false");
     cli_expect(args, 1, "\"edges_over_cap\": 4");
+    /* Its loops no longer close: no volume, and no crash. */
+    cli_expect(args, 1, "\"volume\": null, \"area\": null, \"mass_error\": \"mass: face 0: ");
     remove(path);
     free(text);
 }
@@ -172,11 +195,308 @@ static void test_other_commands(const char *sh)
     cli_expect("model sparrow -o x.step", 2, "unknown model 'sparrow'");
 }
 
+/* `colibri info`'s volume and area: the fork against Open CASCADE's figures (models/SOURCES.md,
+ * to 1e-6), the unit named from the file's, and an open shell or a patch file told gracefully. */
+static void test_info_mass(const char *sh)
+{
+    char args[1200], path[128];
+    snprintf(args, sizeof args, "info --json '%s/models/ujoint_fork.step'", sh);
+    cli_expect(args, 0, "\"mass_error\": null}");
+    double v = json_number("volume"), a = json_number("area");
+    CHECK(fabs(v - 81046.104) <= 1e-6 * 81046.104 && fabs(a - 23955.819) <= 1e-6 * 23955.819,
+          "ujoint_fork: volume %.10g (OCCT 81046.104), area %.10g (OCCT 23955.819)", v, a);
+    snprintf(args, sizeof args, "info '%s/models/ujoint_fork.step'", sh);
+    cli_expect(args, 0, "volume 81046.10");
+    const char *line = strstr(cli_out, "volume 81046.10");
+    double tv = line ? strtod(line + 7, NULL) : NAN;
+    CHECK(line && strstr(line, " mm^3, area 23955.8") && strstr(line, " mm^2\n") &&
+              fabs(tv - v) <= 1e-9 * v,
+          "ujoint_fork: text volume line:\n%s", cli_out);
+    char model[1024];
+    snprintf(model, sizeof model, "%s/models/ujoint_cross.step", sh);
+    char *text = slurp(model);
+    CHECK(text != NULL, "cannot read %s", model);
+    if (!text)
+        return;
+    snprintf(path, sizeof path, "/tmp/colibri_cli_mass_%ld.step", (long)getpid());
+    snprintf(args, sizeof args, "info %s", path);
+    /* The same cross in centimetres: the unit follows the file's. */
+    char *cm = replaced(text, "SI_UNIT(.MILLI.,.METRE.)", "SI_UNIT(.CENTI.,.METRE.)");
+    if (cm) {
+        write_file(path, cm, strlen(cm));
+        cli_expect(args, 0, "volume 95097.33");
+        CHECK(strstr(cli_out, " cm^3, area 14307.07") && strstr(cli_out, " cm^2\n"),
+              "centimetre cross:\n%s", cli_out);
+    }
+    free(cm);
+    /* An open shell of a surface model: valid, but it bounds no volume. */
+    char *sbsm = replaced(text, "#15 = MANIFOLD_SOLID_BREP('',#16);",
+                          "#15 = SHELL_BASED_SURFACE_MODEL('',(#16));");
+    char *open_shell =
+        sbsm ? replaced(sbsm, "#16 = CLOSED_SHELL('',(#17,#230,#339,#443,#447,#503,#507,#511));",
+                        "#16 = OPEN_SHELL('',(#17,#230,#339,#443,#447,#503,#507));")
+             : NULL;
+    if (open_shell) {
+        write_file(path, open_shell, strlen(open_shell));
+        cli_expect(args, 0, "volume, area: not integrated (mass: shell 0 is open");
+        snprintf(args, sizeof args, "info %s --json", path);
+        cli_expect(args, 0,
+                   "\"volume\": null, \"area\": null, \"mass_error\": \"mass: shell 0 is open");
+        CHECK(cli_out[0] == '{' && strchr(cli_out, '\n') == cli_out + strlen(cli_out) - 1,
+              "open shell: not one JSON line:\n%s", cli_out);
+    }
+    free(sbsm);
+    free(open_shell);
+    free(text);
+    remove(path);
+    /* A patch file has no volume to give, and says nothing of one. */
+    snprintf(args, sizeof args, "info --json '%s/models/teapot.bpt'", sh);
+    cli_expect(args, 0, "\"format\": \"bpt\", \"patches\": 32");
+    CHECK(!strstr(cli_out, "volume") && !strstr(cli_out, "mass"), "teapot:\n%s", cli_out);
+}
+
+/* The number after `label` in the output of the last run (NaN if absent). */
+static double number_after(const char *label)
+{
+    const char *at = strstr(cli_out, label);
+    return at ? strtod(at + strlen(label), NULL) : NAN;
+}
+
+/* A STEP file written by `colibri model cardan`, read back: one solid of the part's faces,
+ * whose volume (brep/mass.h) is the closed form within 1e-9. */
+static void check_cardan_file(const char *path, const cb_cardan_params *p, const char *what)
+{
+    int faces = p->kind == CB_CARDAN_CROSS ? 14 : p->yoke.fillet_radius > 0 ? 16 : 14;
+    double ref = NAN;
+    cb_error err;
+    cb_error_clear(&err);
+    CHECK(cb_model_cardan_volume(&ref, p, &err) == CB_OK, "%s: %s", what, err.msg);
+    cb_topo_body *b = NULL;
+    cb_status st = cb_step_read(&b, path, &err);
+    CHECK(st == CB_OK, "%s: read back: %s", what, err.msg);
+    if (st)
+        return;
+    CHECK(b->n_solids == 1 && b->n_faces == faces, "%s: %d solids, %d faces, expected 1, %d",
+          what, b->n_solids, b->n_faces, faces);
+    const char *names[8];
+    int counts[8], nt = cb_topo_body_surface_types(names, counts, b);
+    int bspline = nt > 0 && !strcmp(names[0], "bspline") ? counts[0] : 0;
+    CHECK(bspline == (p->as_nurbs ? faces : 0), "%s: %d B-spline faces", what, bspline);
+    cb_mass_props m;
+    st = cb_mass_body(&m, b, 0, NULL, &err);
+    CHECK(st == CB_OK && fabs(m.volume - ref) <= 1e-9 * ref,
+          "%s: volume %.15g, closed form %.15g: %s", what, m.volume, ref, st ? err.msg : "");
+    cb_topo_body_free(b);
+}
+
+/* `colibri model cardan`: parts and scenarios written, read back and measured; the scenario
+ * list; the reference table equal to models/reference.json byte for byte; bad use. */
+static void test_model_cardan(void)
+{
+    char a[128], b[128], args[1200];
+    snprintf(a, sizeof a, "/tmp/colibri_cli_cardan_%ld_a.step", (long)getpid());
+    snprintf(b, sizeof b, "/tmp/colibri_cli_cardan_%ld_b.step", (long)getpid());
+    cli_expect("model --help", 0, "colibri model cardan SCENARIO -o A.step --out-b B.step");
+    CHECK(strstr(cli_out, "colibri model cardan cross|yoke -o FILE.step") &&
+              strstr(cli_out, "colibri model --reference"),
+          "model --help:\n%s", cli_out);
+
+    /* Single parts, in several poses, analytic and B-spline. */
+    static const struct {
+        const char *opts;
+        cb_cardan_kind kind;
+        int nurbs;
+        double fillet; /* < 0: the default */
+        cb_model_pose pose;
+    } parts[] = {
+        {"cross", CB_CARDAN_CROSS, 0, -1, {{0, 0, 1}, 0, {0, 0, 0}}},
+        {"yoke", CB_CARDAN_YOKE, 0, -1, {{0, 0, 1}, 0, {0, 0, 0}}},
+        {"cross --nurbs --rotate 1 2 3 37 --translate 10 -5 2.5", CB_CARDAN_CROSS, 1, -1,
+         {{1, 2, 3}, 37, {10, -5, 2.5}}},
+        {"yoke --nurbs --translate 0 0 3 --rotate 1 0 0 60", CB_CARDAN_YOKE, 1, -1,
+         {{1, 0, 0}, 60, {0, 0, 3}}},
+        {"yoke --fillet 0 --rotate 0 0 1 90", CB_CARDAN_YOKE, 0, 0, {{0, 0, 1}, 90, {0, 0, 0}}},
+        {"yoke --fillet 0.25 --nurbs", CB_CARDAN_YOKE, 1, 0.25, {{0, 0, 1}, 0, {0, 0, 0}}},
+    };
+    for (size_t k = 0; k < sizeof parts / sizeof parts[0]; k++) {
+        cb_cardan_params p;
+        cb_cardan_params_default(&p, parts[k].kind);
+        p.as_nurbs = parts[k].nurbs;
+        p.pose = parts[k].pose;
+        if (parts[k].fillet >= 0)
+            p.yoke.fillet_radius = parts[k].fillet;
+        double ref = NAN;
+        cb_error err;
+        cb_model_cardan_volume(&ref, &p, &err);
+        snprintf(args, sizeof args, "model cardan %s -o %s", parts[k].opts, a);
+        cli_expect(args, 0, "validation (tolerance ");
+        CHECK(strstr(cli_out, "): valid\n") && number_after("volume (closed form): ") == ref,
+              "%s: printed volume %.17g, closed form %.17g:\n%s", args,
+              number_after("volume (closed form): "), ref, cli_out);
+        check_cardan_file(a, &p, args);
+    }
+
+    /* Scenarios: both parts, and the six volumes of cb_cardan_scenario_volumes. */
+    const char *labels[6] = {"  A      ", "  B      ", "  A u B  ",
+                             "  A n B  ", "  A - B  ", "  B - A  "};
+    for (int k = 0; k < cb_cardan_scenario_count(); k++) {
+        cb_cardan_scenario s;
+        cb_cardan_volumes v;
+        cb_error err;
+        cb_error_clear(&err);
+        if (cb_cardan_scenario_get(&s, k, &err) || cb_cardan_scenario_volumes(&v, &s, &err)) {
+            CHECK(0, "scenario %d: %s", k, err.msg);
+            continue;
+        }
+        int nurbs = k % 2; /* half of them with B-spline faces */
+        s.a.as_nurbs = s.b.as_nurbs = nurbs;
+        snprintf(args, sizeof args, "model cardan %s -o %s --out-b %s%s", s.name, a, b,
+                 nurbs ? " --nurbs" : "");
+        cli_expect(args, 0, s.contact);
+        const double want[6] = {v.a, v.b, v.a_union_b, v.a_inter_b, v.a_minus_b, v.b_minus_a};
+        for (int i = 0; i < 6; i++)
+            CHECK(number_after(labels[i]) == want[i], "%s: %s%.17g printed, closed form %.17g",
+                  s.name, labels[i], number_after(labels[i]), want[i]);
+        char what[160];
+        snprintf(what, sizeof what, "%s A%s", s.name, nurbs ? " (B-spline)" : "");
+        check_cardan_file(a, &s.a, what);
+        snprintf(what, sizeof what, "%s B%s", s.name, nurbs ? " (B-spline)" : "");
+        check_cardan_file(b, &s.b, what);
+    }
+    cli_expect("model cardan --list", 0, "cross_in_yoke       A yoke, B cross: ");
+    int lines = 0;
+    for (const char *c = cli_out; *c; c++)
+        lines += *c == '\n';
+    CHECK(lines == cb_cardan_scenario_count() && strstr(cli_out, "\ncrosses_stacked     A cross"),
+          "model cardan --list:\n%s", cli_out);
+
+    /* The reference table, byte for byte the shipped file. */
+    const char *src = getenv("COLIBRI_SOURCE");
+    char ref_path[1024], out_path[128];
+    snprintf(ref_path, sizeof ref_path, "%s/models/reference.json", src ? src : ".");
+    snprintf(out_path, sizeof out_path, "/tmp/colibri_cli_reference_%ld.json", (long)getpid());
+    snprintf(args, sizeof args, "model --reference > %s", out_path);
+    int code = cli_run(args);
+    size_t n_ref = 0, n_out = 0;
+    char *shipped = slurp_size(ref_path, &n_ref), *printed = slurp_size(out_path, &n_out);
+    CHECK(code == 0 && shipped && printed && n_ref == n_out && !memcmp(shipped, printed, n_ref),
+          "colibri model --reference (exit %d, %zu bytes) differs from %s (%zu bytes)", code,
+          n_out, ref_path, n_ref);
+    free(shipped);
+    free(printed);
+    remove(out_path);
+    cli_expect("model cardan --reference", 0, "\"parts\": {\n    \"cross\": {\"half_size\": 1,");
+
+    /* Unknown names list the valid ones; bad numbers, misplaced options, unwritable files. */
+    snprintf(args, sizeof args, "model cardan sphere -o %s", a);
+    cli_expect(args, 2, "unknown cardan part or scenario 'sphere' (parts: cross, yoke; "
+                        "scenarios: cross_in_yoke, cross_on_base, cross_into_base, "
+                        "cross_through_yoke, two_crosses, crosses_stacked)");
+    cli_expect("model cardan", 2, "parts: cross, yoke; scenarios: cross_in_yoke");
+    cli_expect("model cardan yoke", 2, "needs a part or scenario and -o FILE");
+    static const struct {
+        const char *opts, *message;
+    } bad[] = {
+        {"cross --rotate 0 0 0 30", "--rotate: bad or missing values"},
+        {"cross --rotate 0 0 1", "--rotate: bad or missing values"},
+        {"cross --translate 1 2 abc", "--translate: bad or missing values"},
+        {"cross --translate 1 2 inf", "--translate: bad or missing values"},
+        {"yoke --fillet nan", "--fillet: bad or missing values"},
+        {"yoke --fillet 1.5", "fillet radius f 1.5 must be"},
+        {"yoke --fillet -0.1", "fillet radius f -0.10000000000000001 must be"},
+        {"cross --fillet 0.25", "--fillet does not apply to the cross"},
+        {"cross --scale 2", "--scale does not apply to cardan"},
+        {"yoke --wing-angle 5", "--wing-angle does not apply to cardan"},
+        {"cross --out-b x.step", "--out-b does not apply to a single part"},
+        {"cross_into_base", "--out-b FILE is needed for part B"},
+        {"cross_into_base --out-b x.step --rotate 0 0 1 10", "--rotate does not apply to a"},
+        {"cross_into_base --out-b x.step --translate 0 0 1", "--translate does not apply"},
+        {"cross_into_base --out-b x.step --fillet 0", "--fillet does not apply to a scenario"},
+        {"cross yoke", "usage: colibri model NAME"},
+        {"cross --bogus", "usage: colibri model NAME"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        snprintf(args, sizeof args, "model cardan %s -o %s", bad[k].opts, a);
+        cli_expect(args, 2, bad[k].message);
+    }
+    cli_expect("model cardan --list two_crosses", 2, "usage: colibri model NAME");
+    cli_expect("model --reference -o x.step", 2, "usage: colibri model NAME");
+    snprintf(args, sizeof args, "model hummingbird -o %s --nurbs", a);
+    cli_expect(args, 2, "--nurbs does not apply to hummingbird");
+    cli_expect("model cardan cross -o /nonexistent/dir/cross.step", 2, "cross.step: cannot create");
+    snprintf(args, sizeof args, "model cardan two_crosses -o %s --out-b /nonexistent/dir/b.step",
+             a);
+    cli_expect(args, 2, "b.step: cannot create");
+    remove(a);
+    remove(b);
+}
+
+/* ssi: the subdivision counters in the summary; --quiet, --threads and --tol. The two birds
+ * of the hummingbird scenario are bicubic B-splines, which take the subdivision route; the
+ * B-spline Cardan parts of cross_through_yoke (planes and quadrics, fast) try the flags. */
+static void test_ssi_flags(void)
+{
+    char a[128], b[128], json[128], args[1200];
+    snprintf(a, sizeof a, "/tmp/colibri_cli_ssi_%ld_a.step", (long)getpid());
+    snprintf(b, sizeof b, "/tmp/colibri_cli_ssi_%ld_b.step", (long)getpid());
+    snprintf(json, sizeof json, "/tmp/colibri_cli_ssi_%ld.json", (long)getpid());
+    snprintf(args, sizeof args, "model hummingbird -o %s", a);
+    cli_expect(args, 0, "valid");
+    snprintf(args, sizeof args,
+             "model hummingbird -o %s --rotate 0.2 0.3 1 40 --translate 0.4 0.25 0.15 "
+             "--wing-angle 5",
+             b);
+    cli_expect(args, 0, "valid");
+    snprintf(args, sizeof args, "ssi %s %s --threads 2", a, b);
+    cli_expect(args, 0, "not certified 0\nsubdivision      ");
+    double pairs = number_after("subdivision      ");
+    const char *sub = strstr(cli_out, "subdivision      ");
+    const char *ex = sub ? strstr(sub, " patch pairs, ") : NULL;
+    double subpairs = ex ? strtod(ex + strlen(" patch pairs, "), NULL) : NAN;
+    CHECK(pairs > 0 && subpairs >= pairs && ex && strstr(ex, " sub-patch pairs examined\n"),
+          "birds: %g pairs subdivided, %g sub-pairs:\n%s", pairs, subpairs, cli_out);
+
+    snprintf(args, sizeof args, "model cardan cross_through_yoke --nurbs -o %s --out-b %s", a, b);
+    cli_expect(args, 0, "A n B");
+    snprintf(args, sizeof args, "ssi %s %s", a, b);
+    cli_expect(args, 0, "subdivision      0 patch pairs, 0 sub-patch pairs examined\n");
+    /* --quiet: nothing printed, the same verdict, the JSON still written. */
+    remove(json);
+    snprintf(args, sizeof args, "ssi %s %s --quiet --threads 1 --json %s", a, b, json);
+    int code = cli_run(args);
+    CHECK(code == 0 && cli_out[0] == '\0', "%s: exit %d, output:\n%s", args, code, cli_out);
+    char *text = slurp(json);
+    CHECK(text && strstr(text, "\"branches\": [") && strstr(text, "\"not_certified\": []"),
+          "%s: JSON %s", args, text ? text : "missing");
+    free(text);
+    remove(json);
+    snprintf(args, sizeof args, "ssi --quiet %s %s --threads 0", a, b);
+    code = cli_run(args);
+    CHECK(code == 0 && cli_out[0] == '\0', "%s: exit %d, output:\n%s", args, code, cli_out);
+    /* Errors still speak. */
+    snprintf(args, sizeof args, "ssi --quiet %s /nonexistent/b.step", a);
+    cli_expect(args, 2, "b.step: cannot open");
+    snprintf(args, sizeof args, "ssi %s %s --quiet --json /nonexistent/dir/x.json", a, b);
+    cli_expect(args, 2, "cannot write /nonexistent/dir/x.json");
+    static const char *const bad[] = {"--threads -1", "--threads abc", "--threads ''",
+                                      "--threads 1e3", "--threads 5000"};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        snprintf(args, sizeof args, "ssi %s %s --quiet %s", a, b, bad[k]);
+        cli_expect(args, 2, "--threads needs a count in [0, 4096]");
+    }
+    snprintf(args, sizeof args, "ssi %s %s --tol inf", a, b);
+    cli_expect(args, 2, "--tol needs a positive number");
+    snprintf(args, sizeof args, "ssi %s %s --threads", a, b);
+    cli_expect(args, 2, "unknown or incomplete option '--threads'");
+    remove(a);
+    remove(b);
+}
+
 int main(void)
 {
     const char *shared = getenv("COLIBRI_SHARED");
     char args[1024];
-    cli_expect("", 2, "usage: colibri COMMAND");
+    cli_expect("", 2, "COMMAND [options] [files]");
     cli_expect("--help", 0, "commands:");
     cli_expect("--version", 0, "colibri ");
     cli_expect("frobnicate", 2, "unknown command 'frobnicate'");
@@ -202,26 +522,41 @@ int main(void)
     cli_expect(args, 0, "\"valid\": true, \"problems\": []");
     snprintf(args, sizeof args, "info '%s/models/trj5_k1-al-214.stp' --json", sh);
     cli_expect(args, 0, "\"surface_types\": {\"bspline\": 39}");
-    cli_expect(args, 0, "\"unit_mm\": 10,");
+    CHECK(strstr(cli_out, "\"unit_mm\": 10,") != NULL, "trj5:\n%s", cli_out);
+    /* Volume and area in the file's unit, cm: Open CASCADE's 7936.1475 mm^3 (to the 5e-6 its
+     * trims allow, tests/test_brep_mass.c) and 4952.8495 mm^2. */
+    double trj5_v = json_number("volume"), trj5_a = json_number("area");
+    CHECK(fabs(trj5_v - 7.9361475) <= 5e-6 * 7.9361475 &&
+              fabs(trj5_a - 49.528495) <= 1e-6 * 49.528495,
+          "trj5: volume %.10g cm^3, area %.10g cm^2", trj5_v, trj5_a);
     /* linkrods' edges stray up to 4.14e-4 from their surfaces, twenty times the file's 2e-5:
      * the reader raises edge tolerances to their deviation (+5%), and the model is valid. The
      * largest is within 10% of Open CASCADE's 4.13e-4. */
     snprintf(args, sizeof args, "info '%s/models/linkrods.step' --json", sh);
     cli_expect(args, 0, "\"valid\": true");
-    cli_expect(args, 0, "\"edges_over_cap\": 0");
+    CHECK(strstr(cli_out, "\"edges_over_cap\": 0") && strstr(cli_out, "\"mass_error\": null}"),
+          "linkrods:\n%s", cli_out);
+    double volume = json_number("volume");
+    CHECK(fabs(volume - 3.847013) <= 1e-6 * 3.847013, "linkrods: volume %.10g (OCCT 3.847013)",
+          volume);
     int raised = (int)json_number("edges_tol_raised");
     double largest = json_number("max_edge_tol");
     CHECK(raised > 0 && raised <= 108 && fabs(largest - 4.13e-4) <= 0.1 * 4.13e-4,
           "linkrods: %d edge tolerances raised, largest %g", raised, largest);
-    snprintf(args, sizeof args, "info '%s/models/linkrods.step'", sh);
+    /* Without the volume and area (--no-mass), which take a second here. */
+    snprintf(args, sizeof args, "info '%s/models/linkrods.step' --no-mass", sh);
     char want[200];
     snprintf(want, sizeof want,
              "edge tolerances: %d raised above the file's 2e-05, largest %.3g (cap 0.000561)",
              raised, largest);
     cli_expect(args, 0, want);
-    cli_expect(args, 0, "validation (tolerance 2e-05): valid");
-    snprintf(args, sizeof args, "info '%s/models/linkrods.step' --tol 5e-4", sh);
-    cli_expect(args, 0, "validation (tolerance 0.0005): valid");
+    CHECK(strstr(cli_out, "validation (tolerance 2e-05): valid") && !strstr(cli_out, "volume"),
+          "linkrods --no-mass:\n%s", cli_out);
+    snprintf(args, sizeof args, "info '%s/models/linkrods.step' --no-mass --tol 5e-4 --json", sh);
+    cli_expect(args, 0, "\"tolerance\": 0.00050000000000000001, \"valid\": true");
+    CHECK(strstr(cli_out, "\"volume\": null, \"area\": null, \"mass_error\": \"not computed "
+                          "(--no-mass)\"}\n"),
+          "linkrods --no-mass --json:\n%s", cli_out);
     snprintf(args, sizeof args, "info '%s/models/ujoint_cross.step' --json", sh);
     cli_expect(args, 0, "\"edges_tol_raised\": 0, \"edges_over_cap\": 0");
     char bad[64];
@@ -240,5 +575,8 @@ int main(void)
     cli_expect("info x.step --bogus", 2, "usage: colibri info");
     test_bad_step(sh);
     test_other_commands(sh);
+    test_info_mass(sh);
+    test_model_cardan();
+    test_ssi_flags();
     return check_report("cli");
 }

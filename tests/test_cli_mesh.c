@@ -1,5 +1,5 @@
-/* `colibri mesh`: exit codes, text and JSON output, and the file written (read back and
- * checked by `colibri check`). */
+/* `colibri mesh`: exit codes, text and JSON output, the file written (read back and checked
+ * by `colibri check`), and the --quiet and --threads flags (the mesh the same for any count). */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -8,6 +8,29 @@
 
 #include "check.h"
 #include "check_cli.h"
+
+/* The whole of a file, NUL-terminated (NULL if it cannot be read). */
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    char *text = NULL;
+    size_t len = 0, cap = 0, got;
+    char chunk[4096];
+    while ((got = fread(chunk, 1, sizeof chunk, f)) > 0) {
+        if (len + got + 1 > cap) {
+            cap = 2 * (len + got + 1);
+            text = realloc(text, cap);
+        }
+        memcpy(text + len, chunk, got);
+        len += got;
+    }
+    fclose(f);
+    if (text)
+        text[len] = '\0';
+    return text;
+}
 
 static const char *shared_dir(void)
 {
@@ -64,6 +87,39 @@ int main(void)
     CHECK(strstr(cli_out, "\"triangles\": ") != NULL && strstr(cli_out, "\"volume\": 81") != NULL,
           "%s", cli_out);
     CHECK(strstr(cli_out, "tessellate") == NULL, "progress shown off a terminal:\n%s", cli_out);
+
+    /* --quiet: no summary, no progress; --json still prints its object. --threads N: the
+     * mesh written is the same, byte for byte, on 1 and 2 threads. */
+    char out2[512];
+    snprintf(out2, sizeof out2, "%s/colibri_mesh_%d_2.off", tmp, (int)getpid());
+    snprintf(args, sizeof args, "mesh '%s' -o '%s' --tol 0.2 --quiet --threads 1", model, out);
+    int code = cli_run(args);
+    CHECK(code == 0 && cli_out[0] == '\0', "%s: exit %d, output:\n%s", args, code, cli_out);
+    snprintf(args, sizeof args, "mesh --threads 2 '%s' --quiet -o '%s' --tol 0.2", model, out2);
+    code = cli_run(args);
+    CHECK(code == 0 && cli_out[0] == '\0', "%s: exit %d, output:\n%s", args, code, cli_out);
+    char *m1 = slurp(out), *m2 = slurp(out2);
+    CHECK(m1 && m2 && !strcmp(m1, m2), "meshes on 1 and 2 threads differ (%s, %s)", out, out2);
+    free(m1);
+    free(m2);
+    snprintf(args, sizeof args, "mesh '%s' -o '%s' --tol 0.2 --quiet --json --threads 0", model,
+             out);
+    cli_expect(args, 0, "\"passed\": true");
+    CHECK(cli_out[0] == '{' && strchr(cli_out, '\n') == cli_out + strlen(cli_out) - 1,
+          "--quiet --json: not one JSON line:\n%s", cli_out);
+    /* Errors still speak under --quiet. */
+    cli_expect("mesh /nonexistent/model.step -o x.stl --quiet", 2, "cannot open");
+    snprintf(args, sizeof args, "mesh '%s' -o /nonexistent/dir/x.off --tol 0.2 --quiet", model);
+    cli_expect(args, 1, "x.off");
+    static const char *const bad[] = {"--threads -1", "--threads abc", "--threads ''",
+                                      "--threads 2.5", "--threads 5000"};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        snprintf(args, sizeof args, "mesh '%s' -o x.stl --quiet %s", model, bad[k]);
+        cli_expect(args, 2, "--threads needs a count in [0, 4096]");
+    }
+    snprintf(args, sizeof args, "mesh '%s' -o x.stl --threads", model);
+    cli_expect(args, 2, "usage: colibri mesh");
     remove(out);
+    remove(out2);
     return check_report("test_cli_mesh");
 }
