@@ -400,6 +400,13 @@ void cb_topo_report_clear(cb_topo_report *r);
  *   - loops whose coedges all carry pcurves are closed in (u, v): consecutive pcurve ends
  *     coincide modulo the surface periods, or lie on a line of the surface that collapses to
  *     one point (a pole);
+ *   - faces whose coedges all carry pcurves, and whose loops passed the checks above, are not
+ *     degenerate: the area their loops enclose on the surface (|S_u x S_v| integrated over the
+ *     domain in (u, v) by columns, as cb_topo_shell_volume integrates) exceeds tol times the
+ *     length of their loops, i.e. their mean width 2 area / length exceeds 2 tol ("face k:
+ *     degenerate, its loops span no area" otherwise: a loop folded back on a line, which
+ *     tessellation cannot mesh). Faces the columns cannot bound (loops around both periods of
+ *     a torus, a loop around a periodic direction with no pole to close at) are not measured;
  *   - closed shells whose coedges all carry pcurves are oriented outward: their signed volume
  *     (cb_topo_shell_volume) is positive ("shell k: inward oriented" otherwise), negative for
  *     the voids of a solid, whose faces face into the cavity.

@@ -1,10 +1,12 @@
 /* Entry points of the STEP reader: load the file, parse, map, index, complete the pcurves,
  * fit the edge tolerances. */
+#define _POSIX_C_SOURCE 200809L /* stat */
 #include <errno.h>
 #include <stdio.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "io/step_internal.h"
 
@@ -123,6 +125,14 @@ cb_status cb_step_read_opt(cb_topo_body **out, const char *path, const cb_step_o
     cb_error local;
     step_file f = {.path = path, .err = err ? err : &local};
     *out = NULL;
+    /* What the path is, asked before opening it: fopen opens a directory (ftell then reports
+     * LONG_MAX for it), and opening a FIFO blocks. */
+    struct stat sb;
+    if (stat(path, &sb))
+        return cb_error_set(f.err, CB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    if (!S_ISREG(sb.st_mode))
+        return cb_error_set(f.err, CB_ERR_IO, "%s: %s", path,
+                            S_ISDIR(sb.st_mode) ? "is a directory" : "not a regular file");
     FILE *in = fopen(path, "rb");
     if (!in)
         return cb_error_set(f.err, CB_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
@@ -130,8 +140,9 @@ cb_status cb_step_read_opt(cb_topo_body **out, const char *path, const cb_step_o
     if (!fseek(in, 0, SEEK_END))
         size = ftell(in);
     if (size < 0 || fseek(in, 0, SEEK_SET)) {
+        int e = errno;
         fclose(in);
-        return cb_error_set(f.err, CB_ERR_IO, "%s: cannot read (not a regular file?)", path);
+        return cb_error_set(f.err, CB_ERR_IO, "%s: cannot read: %s", path, strerror(e));
     }
     if (size > MAX_FILE_BYTES) {
         fclose(in);

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "brep/prim.h"
 #include "brep/topo.h"
 #include "check.h"
 
@@ -320,10 +321,224 @@ static void test_body(void)
     cb_topo_body_free(b);
 }
 
+
+/* ---------------------------------------------------------------- degenerate faces --------- */
+
+/* A closed polyhedron with planar faces and line edges: the vertices P, faces as vertex cycles
+ * (counterclockwise seen from outside) of deg[f] vertices each, one after the other in cyc.
+ * Each face lies on the plane through its first vertex with Newell's normal, or, for a face
+ * whose cycle spans no area, the plane z = that vertex's z. Pcurves computed; tolerance tol. */
+static cb_topo_body *polyhedron(const double (*P)[3], int np, const int *cyc, const int *deg,
+                                int nf, double tol)
+{
+    cb_topo_body *b = cb_topo_body_new();
+    cb_error err;
+    for (int k = 0; k < np; k++) {
+        int v = cb_topo_body_add_vertex(b);
+        memcpy(b->vertices[v].p, P[k], sizeof P[k]);
+    }
+    int edge[8][8];
+    for (int i = 0; i < 8; i++)
+        for (int j = 0; j < 8; j++)
+            edge[i][j] = -1;
+    int sh = cb_topo_body_add_shell(b), so = cb_topo_body_add_solid(b);
+    b->solids[so] = (cb_topo_solid){.first = sh, .count = 1};
+    b->shells[sh] = (cb_topo_shell){.first = 0, .count = nf, .closed = 1, .solid = so};
+    for (int f = 0, at = 0; f < nf; at += deg[f++]) {
+        const int *c = cyc + at;
+        double n[3] = {0, 0, 0}, x[3];
+        for (int k = 0; k < deg[f]; k++) {
+            const double *p = P[c[k]], *q = P[c[(k + 1) % deg[f]]];
+            n[0] += (p[1] - q[1]) * (p[2] + q[2]);
+            n[1] += (p[2] - q[2]) * (p[0] + q[0]);
+            n[2] += (p[0] - q[0]) * (p[1] + q[1]);
+        }
+        if (cb_vec3_norm(n) < 1e-14)
+            n[0] = n[1] = 0, n[2] = 1;
+        for (int i = 0; i < 3; i++)
+            x[i] = P[c[1]][i] - P[c[0]][i];
+        int fi = cb_topo_body_add_face(b), s = cb_topo_body_add_surface(b),
+            l = cb_topo_body_add_loop(b);
+        cb_frame fr;
+        cb_frame_make(&fr, P[c[0]], n, x, &err);
+        b->surfaces[s].kind = CB_SURFACE_ANALYTIC;
+        cb_analytic_plane(&b->surfaces[s].analytic, &fr, &err);
+        b->faces[fi] =
+            (cb_topo_face){.surface = s, .same_sense = 1, .first = l, .count = 1, .shell = sh};
+        b->loops[l] =
+            (cb_topo_loop){.first = b->n_coedges, .count = deg[f], .outer = 1, .face = fi};
+        for (int k = 0; k < deg[f]; k++) {
+            int from = c[k], to = c[(k + 1) % deg[f]], lo = from < to ? from : to,
+                hi = from < to ? to : from;
+            if (edge[lo][hi] < 0) {
+                int e = cb_topo_body_add_edge(b), cv = cb_topo_body_add_curve(b);
+                double d[3] = {P[hi][0] - P[lo][0], P[hi][1] - P[lo][1], P[hi][2] - P[lo][2]};
+                b->curves[cv].kind = CB_CURVE_LINE;
+                b->curves[cv].r1 = cb_vec3_norm(d);
+                cb_frame_make(&b->curves[cv].frame, P[lo], d, NULL, &err);
+                b->edges[e] = (cb_topo_edge){
+                    .curve = cv, .t0 = 0, .t1 = 1, .same_sense = 1, .v = {lo, hi}, .tol = tol};
+                edge[lo][hi] = e;
+            }
+            int co = cb_topo_body_add_coedge(b);
+            b->coedges[co] =
+                (cb_topo_coedge){.edge = edge[lo][hi], .sense = from < to, .pcurve = -1, .loop = l};
+        }
+    }
+    b->tol = tol;
+    CHECK(cb_topo_body_index(b, &err) == CB_OK && cb_topo_compute_pcurves(b, tol, &err) == CB_OK,
+          "polyhedron: %s", err.msg);
+    return b;
+}
+
+/* The tetrahedron (0,0,0), (1,0,0), (0,1,0), (0,0,1) with its edge from (1,0,0) to (0,1,0)
+ * split at vertex 4, moved off the edge's midpoint by d (in the plane z = 0, away from the
+ * solid): the bottom face becomes a quadrilateral and face 4 the sliver triangle between the
+ * edge and its two halves, of area d / sqrt(2), no area at all for d = 0 (as the sliver of
+ * tests/test_hostile.c, which tessellation cannot mesh). */
+static cb_topo_body *split_tetrahedron(double d, double tol)
+{
+    double m = 0.5 + d / sqrt(2.0);
+    const double P[5][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {m, m, 0}};
+    static const int cyc[] = {0, 2, 4, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3, 2, 1, 4};
+    static const int deg[] = {4, 3, 3, 3, 3};
+    return polyhedron(P, 5, cyc, deg, 5, tol);
+}
+
+/* Sphere of radius 1 cut by the parallel at latitude v0 into two caps, each bounded by that
+ * circle alone (one closed edge, no seam, no pole vertex): face 0 the north cap, face 1 the
+ * south one. Their loops wrap around the sphere in u and end at a pole, where the area
+ * integration must close them. */
+static cb_topo_body *sphere_caps(double v0, double tol)
+{
+    cb_topo_body *b = cb_topo_body_new();
+    cb_error err;
+    int v = cb_topo_body_add_vertex(b);
+    b->vertices[v] = (cb_topo_vertex){{cos(v0), 0, sin(v0)}};
+    int cv = cb_topo_body_add_curve(b), e = cb_topo_body_add_edge(b);
+    const double o[3] = {0, 0, sin(v0)}, z[3] = {0, 0, 1}, x[3] = {1, 0, 0};
+    b->curves[cv].kind = CB_CURVE_CIRCLE;
+    b->curves[cv].r1 = b->curves[cv].r2 = cos(v0);
+    cb_frame_make(&b->curves[cv].frame, o, z, x, &err);
+    b->edges[e] = (cb_topo_edge){
+        .curve = cv, .t0 = 0, .t1 = 2 * PI, .same_sense = 1, .v = {v, v}, .tol = tol};
+    int s = cb_topo_body_add_surface(b), sh = cb_topo_body_add_shell(b),
+        so = cb_topo_body_add_solid(b);
+    cb_frame world;
+    const double origin[3] = {0, 0, 0};
+    cb_frame_make(&world, origin, z, x, &err);
+    b->surfaces[s].kind = CB_SURFACE_ANALYTIC;
+    cb_analytic_sphere(&b->surfaces[s].analytic, &world, 1.0, &err);
+    b->solids[so] = (cb_topo_solid){.first = sh, .count = 1};
+    b->shells[sh] = (cb_topo_shell){.first = 0, .count = 2, .closed = 1, .solid = so};
+    for (int k = 0; k < 2; k++) {
+        int f = cb_topo_body_add_face(b), l = cb_topo_body_add_loop(b),
+            c = cb_topo_body_add_coedge(b);
+        b->faces[f] = (cb_topo_face){.surface = s, .same_sense = 1, .first = l, .count = 1,
+                                     .shell = sh};
+        b->loops[l] = (cb_topo_loop){.first = c, .count = 1, .outer = 1, .face = f};
+        /* Outward normals: the north cap runs east (+u) round its bound, the south one west.
+         * Both over the pcurve (u, v) = (t, v0), the circle's own parameter being u. */
+        int pc = cb_topo_body_add_pcurve(b);
+        const double po[3] = {0, v0, 0}, pd[3] = {1, 0, 0};
+        b->pcurves[pc].kind = CB_CURVE_LINE;
+        b->pcurves[pc].r1 = 1;
+        cb_frame_make(&b->pcurves[pc].frame, po, pd, NULL, &err);
+        b->coedges[c] = (cb_topo_coedge){.edge = e, .sense = k == 0, .pcurve = pc, .loop = l};
+    }
+    b->tol = tol;
+    CHECK(cb_topo_body_index(b, &err) == CB_OK, "sphere caps: %s", err.msg);
+    return b;
+}
+
+/* Validates b at tolerance tol: 1 when some problem contains `what`, *n the count. */
+static int reports_at(cb_topo_body *b, double tol, const char *what, int *n)
+{
+    cb_topo_report r;
+    cb_topo_report_init(&r);
+    cb_error err;
+    CHECK(cb_topo_validate(&r, b, tol, 7, &err) == CB_OK, "validate: %s", err.msg);
+    int found = 0;
+    for (int k = 0; k < r.n; k++)
+        found |= what && strstr(r.items[k], what) != NULL;
+    *n = r.n;
+    cb_topo_report_clear(&r);
+    return found;
+}
+
+static void test_degenerate_faces(void)
+{
+    int n;
+    /* A face whose loop folds back on a line passed validation, and tessellation then failed
+     * on it. Face 4 is the sliver; at d = 1e-12 it is still narrower than the tolerance 1e-9;
+     * at d = 1e-6 it is a face. */
+    cb_topo_body *b = split_tetrahedron(0, 1e-9);
+    CHECK(reports_at(b, 0, "face 4: degenerate", &n) && n == 1,
+          "zero-area face 4 not reported alone (%d problems)", n);
+    cb_topo_body_free(b);
+    b = split_tetrahedron(1e-12, 1e-9);
+    CHECK(reports_at(b, 0, "face 4: degenerate", &n) && n == 1,
+          "face 4 of width 1e-12 not reported alone (%d problems)", n);
+    cb_topo_body_free(b);
+    b = split_tetrahedron(1e-6, 1e-9);
+    reports_at(b, 0, NULL, &n);
+    CHECK(n == 0, "face 4 of width 1e-6 (area 7e-7): %d problems", n);
+    cb_topo_body_free(b);
+
+    /* Caps bounded by one circle: closed at the right pole, each measures its own area. The
+     * limit is tol * loop length: at latitude 0.5 the north cap (area 2 pi (1 - sin 0.5) =
+     * 3.27, loop 2 pi cos 0.5 = 5.51) is degenerate above tol = 0.593, the south cap (9.29)
+     * above 1.69. */
+    b = sphere_caps(0.5, 1e-9);
+    reports_at(b, 0, NULL, &n);
+    CHECK(n == 0, "sphere caps: %d problems", n);
+    CHECK(!reports_at(b, 0.55, "degenerate", &n), "sphere caps at tol 0.55: degenerate");
+    CHECK(reports_at(b, 0.65, "face 0: degenerate", &n) && n == 1,
+          "sphere caps at tol 0.65: north cap not reported alone (%d problems)", n);
+    cb_topo_body_free(b);
+
+    /* A flat cone, radius 1 and height 0.2: its side through the apex (area pi s = 3.20 for
+     * the slant s = 1.02; loop: the circle and the seam twice, 8.32) is degenerate above
+     * tol = 0.385, its disc (pi, loop 2 pi) above 0.5. */
+    cb_error err;
+    CHECK(cb_prim_cone(&b, NULL, 1, 0, 0.2, 0, 1e-9, &err) == CB_OK, "cone: %s", err.msg);
+    if (b) {
+        CHECK(!reports_at(b, 0.35, "degenerate", &n), "cone at tol 0.35: degenerate");
+        CHECK(reports_at(b, 0.42, "face 0: degenerate", &n) && n == 1,
+              "cone at tol 0.42: side (face 0) not reported alone (%d problems)", n);
+        cb_topo_body_free(b);
+    }
+
+    /* Every primitive, analytic or B-spline, small or large: its faces have area (spheres
+     * bounded by their seam and poles, cones by an apex, tori by two seams). (At 1e-6 the
+     * B-spline cylinder and cone are not built: their pcurve fit at tolerance 1e-15 stalls.) */
+    for (int nurbs = 0; nurbs < 2; nurbs++)
+        for (int scale = -3; scale <= 6; scale += 3) {
+            double s = pow(10.0, scale);
+            cb_topo_body *p[6] = {NULL};
+            const double lo[3] = {0, 0, 0}, hi[3] = {s, 2 * s, 3 * s};
+            cb_prim_box(&p[0], NULL, lo, hi, nurbs, 0, &err);
+            cb_prim_sphere(&p[1], NULL, s, nurbs, 0, &err);
+            cb_prim_ellipsoid(&p[2], NULL, s, 2 * s, 0.5 * s, nurbs, 0, &err);
+            cb_prim_cylinder(&p[3], NULL, s, 3 * s, nurbs, 0, &err);
+            cb_prim_cone(&p[4], NULL, 0, s, 2 * s, nurbs, 0, &err);
+            cb_prim_torus(&p[5], NULL, 3 * s, s, nurbs, 0, &err);
+            for (int k = 0; k < 6; k++) {
+                CHECK(p[k] != NULL, "primitive %d (nurbs %d, scale %g) not built", k, nurbs, s);
+                if (!p[k])
+                    continue;
+                reports_at(p[k], 0, NULL, &n);
+                CHECK(n == 0, "primitive %d (nurbs %d, scale %g): %d problems", k, nurbs, s, n);
+                cb_topo_body_free(p[k]);
+            }
+        }
+}
+
 int main(void)
 {
     test_surfaces();
     test_curves();
     test_body();
+    test_degenerate_faces();
     return check_report("brep_topo");
 }
