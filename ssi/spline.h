@@ -155,7 +155,8 @@ typedef struct {
  * axes), subdivided with the boxes. Appends to roots (capacity
  * cap, count *n). Returns 1 when every root was found and certified simple and strictly
  * inside the domain, 0 when ambiguous (a root on or near the domain's boundary, a multiple or
- * near-multiple root, more than cap roots, or more than budget boxes). */
+ * near-multiple root, more than cap roots, more than budget boxes, or no memory for the
+ * search). */
 int _cb_ssi_edge_roots(_cb_ssi_edge_root *roots, int cap, int *n, const _cb_ssi_bez *C, int dir,
                        double c, double w0, double w1, const _cb_iv *cnet, const _cb_ssi_bez *S,
                        const double box[4], const _cb_iv *snet, int budget);

@@ -465,12 +465,21 @@ int _cb_ssi_edge_roots(_cb_ssi_edge_root *roots, int cap, int *n, const _cb_ssi_
     const int Dc = C->dim, Ds = S->dim;
     const size_t per = (size_t)(Dc * nc + Ds * np);
     _cb_iv *pool = malloc((size_t)MAXSTACK * per * sizeof(_cb_iv));
+    _cb_iv *tmp = malloc(per * sizeof(_cb_iv));
+    _cb_iv *hwork = malloc((size_t)(3 * (nc + np)) * sizeof(_cb_iv));
+    if (!stack || !pool || !tmp || !hwork) {
+        /* Out of memory: the roots are not known, which the caller treats as ambiguous and
+         * reports the pair uncertified rather than guessing. */
+        free(stack);
+        free(pool);
+        free(tmp);
+        free(hwork);
+        return 0;
+    }
     for (int k = 0; k < MAXSTACK; k++) {
         stack[k].cn = pool + (size_t)k * per;
         stack[k].sn = stack[k].cn + Dc * nc;
     }
-    _cb_iv *tmp = malloc(per * sizeof(_cb_iv));
-    _cb_iv *hwork = malloc((size_t)(3 * (nc + np)) * sizeof(_cb_iv));
     found fd[MAXFOUND];
     int sp = 0, nf = 0, ok = 1, work = 0;
     memcpy(stack[0].B, D, sizeof D);

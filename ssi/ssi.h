@@ -41,6 +41,11 @@
  * surface as its exact rational B-spline against the other's implicit equation (the
  * analytic/NURBS pipeline, certified topology), parameters mapped back to the analytic surface.
  *
+ * B-spline faces that are the exact rational forms of planes and cylinders (cb_analytic_to_nurbs
+ * nets, recognised and confirmed by rebuilding the net; ssi_recog.c) take those closed forms when
+ * one decides the pair, parameters mapped back to the B-splines (opts.recognise): the rounded
+ * conic weights otherwise leave nodes and tangencies (the Steinmetz bicylinder) uncertified.
+ *
  * Surfaces that coincide (within tol, or exactly phi = 0) give no curves but a
  * cb_ssi_coincident record with the orientation of their normals.
  *
@@ -95,6 +100,10 @@ typedef struct {
     slong spline_max_subpairs; /* subdivision route: sub-patch pairs examined per Bezier
                                   patch pair before the rest is reported uncertified;
                                   default 20000 */
+    int recognise; /* 1 (default): B-spline faces that are the exact rational forms of planes
+                      and cylinders (cb_analytic_to_nurbs nets, control points within 1e-3 tol)
+                      take the analytic closed forms when one decides the pair (ssi_recog.c);
+                      0: always the B-spline routes */
 } cb_ssi_opts;
 
 void cb_ssi_opts_default(cb_ssi_opts *o);
@@ -357,6 +366,23 @@ cb_ssi_coincident *_cb_ssi_add_coincident(cb_ssi_result_t r, int fa, int fb, int
 /* Appends everything s holds to r (curves, points, failures, coincidence records; counters
  * added, distances maxed) and leaves s without them. */
 void _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s);
+
+/* B-spline faces that are exact rational forms of analytic surfaces (ssi_recog.c).
+ * _cb_ssi_recognise: 1 when s is, up to delta in its Euclidean control points and 1e-12
+ * (relative) in knots and weights, the net cb_analytic_to_nurbs makes of a plane or a cylinder
+ * over some range; then a and range are that surface and range (the B-spline's domain).
+ * _cb_ssi_recog_param: B-spline parameters of the analytic (u, v) on such an s.
+ * _cb_ssi_recognised_pair: when every NURBS side of A, B is recognised (control points within
+ * 1e-3 tol) and the analytic pair is decided by a closed form without failures, appends that
+ * result with the parameters mapped to the B-spline parameterisations and sets *done; otherwise
+ * appends nothing (*done = 0) and the caller takes the B-spline route. */
+int _cb_ssi_recognise(cb_analytic_surface *a, double range[4], const cb_nurbs_surface_struct *s,
+                      double delta);
+void _cb_ssi_recog_param(double out[2], const cb_nurbs_surface_struct *s,
+                         const cb_analytic_surface *a, const double uv[2]);
+cb_status _cb_ssi_recognised_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
+                                  const cb_ssi_surface *B, int face_a, int face_b,
+                                  const cb_ssi_opts *opts, int *done, cb_error *err);
 
 /* Two analytic surfaces (ssi_analytic.c; see cb_ssi_surfaces). */
 cb_status _cb_ssi_analytic_pair(cb_ssi_result_t r, const cb_ssi_surface *A,

@@ -1107,6 +1107,7 @@ static cb_status general_route(cb_ssi_result_t r, const actx *g, int fa, int fb,
         cb_ssi_opts o = *opts;
         o.tol = g->tol;
         o.chord = g->chord;
+        o.recognise = 0; /* the converted nets are recognised: no way back to here */
         cb_ssi_result_t t;
         cb_ssi_result_init(t);
         st = cb_ssi_surfaces(t, S, S + 1, fa, fb, &o, err);

@@ -37,6 +37,7 @@ void cb_ssi_opts_default(cb_ssi_opts *o)
     cb_ctopo_opts_default(&o->topo);
     o->spline_max_depth = 20;
     o->spline_max_subpairs = 20000;
+    o->recognise = 1;
 }
 
 static double now_s(void)
@@ -719,6 +720,15 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
 {
     if (A->kind == CB_SSI_ANALYTIC && B->kind == CB_SSI_ANALYTIC)
         return _cb_ssi_analytic_pair(r, A, B, face_a, face_b, opts, err);
+    if (opts->recognise) {
+        /* Fast path: B-spline planes and cylinders written as their exact rational forms
+         * (ssi_recog.c) take the analytic closed forms, which decide tangency and nodes within
+         * tol where the rounded conic weights leave the B-spline route undecided. */
+        int done = 0;
+        cb_status st0 = _cb_ssi_recognised_pair(r, A, B, face_a, face_b, opts, &done, err);
+        if (st0 != CB_OK || done)
+            return st0;
+    }
     /* P is implicitised: the analytic side, or the spline of lower patch bidegree. */
     int swapped;
     if (A->kind == CB_SSI_ANALYTIC)

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "brep/prim.h"
 #include "check.h"
@@ -766,8 +767,159 @@ static void test_prim_bodies(void)
     cb_topo_body_free(c);
 }
 
-int main(void)
+/* The Steinmetz bicylinder (issue 8): unit cylinders of length 4 along x from (-2, 0, 0) and
+ * along y from (0, -2, 0), as analytic faces and as exact rational B-splines, seams through the
+ * crossing points (0, 0, +-1) (frame ref z) or elsewhere (ref (0, 0.6, 0.8)). The side faces
+ * meet in two ellipses crossing at (0, 0, +-1), where the surfaces touch: 4 open curves, each
+ * from one crossing point to the other, every end at one of them; the discs meet nothing. */
+static cb_topo_body *steinmetz_cyl(const double o[3], const double axis[3], const double ref[3],
+                                   int as_nurbs)
 {
+    cb_frame f;
+    cb_error err;
+    cb_topo_body *b = NULL;
+    cb_status st = cb_frame_make(&f, o, axis, ref, &err);
+    if (!st)
+        st = cb_prim_cylinder(&b, &f, 1, 4, as_nurbs, 0, &err);
+    CHECK(st == CB_OK, "steinmetz cylinder: %s", err.msg);
+    return b;
+}
+
+static void test_steinmetz(void)
+{
+    double ox[3] = {-2, 0, 0}, x[3] = {1, 0, 0}, oy[3] = {0, -2, 0}, y[3] = {0, 1, 0};
+    double refs[2][3] = {{0, 0, 1}, {0, 0.6, 0.8}};
+    for (int nurbs = 0; nurbs < 2; nurbs++)
+        for (int k = 0; k < 2; k++) {
+            char name[64];
+            snprintf(name, sizeof name, "steinmetz %s, seams %s", nurbs ? "as_nurbs" : "analytic",
+                     k ? "off" : "through the nodes");
+            cb_topo_body *A = steinmetz_cyl(ox, x, refs[k], nurbs);
+            cb_topo_body *B = steinmetz_cyl(oy, y, refs[k], nurbs);
+            if (!A || !B) {
+                cb_topo_body_free(A);
+                cb_topo_body_free(B);
+                continue;
+            }
+            cb_ssi_opts o;
+            cb_ssi_opts_default(&o);
+            cb_ssi_result_t r;
+            cb_ssi_result_init(r);
+            cb_error err;
+            cb_error_clear(&err);
+            clock_t c0 = clock();
+            cb_status st = cb_ssi_bodies(r, A, B, &o, &err);
+            double secs = (double)(clock() - c0) / CLOCKS_PER_SEC;
+            CHECK(st == CB_OK && r->status == CB_OK && r->n_failed == 0,
+                  "%s: status %d/%d, %ld uncertified face pairs (%s)", name, st, r->status,
+                  (long)r->n_failed, r->n_failed ? r->failed[0].msg : err.msg);
+            counts got = count(r);
+            CHECK(got.curves == 4 && got.closed == 0 && got.points == 0 && got.coincident == 0 &&
+                      got.tangential == 0,
+                  "%s: curves %d (closed %d, tangential %d), points %d, coincident %d; expected "
+                  "4 open curves",
+                  name, got.curves, got.closed, got.tangential, got.points, got.coincident);
+            /* Every end at a node; each node the end of exactly 4 curve ends; every point on
+             * both cylinders (x^2 + z^2 = 1 = y^2 + z^2) and inside both lengths. */
+            int at[2] = {0, 0}, bad_end = 0, bad_pt = 0;
+            double worst = 0;
+            for (slong c = 0; c < r->n_curves; c++) {
+                const cb_ssi_curve *cv = r->curve + c;
+                for (int e = 0; e < 2 && cv->n > 0; e++) {
+                    const double *X = cv->pt[e ? cv->n - 1 : 0].xyz;
+                    double n0[3] = {0, 0, 1}, n1[3] = {0, 0, -1};
+                    if (d3(X, n0) <= r->tol)
+                        at[0]++;
+                    else if (d3(X, n1) <= r->tol)
+                        at[1]++;
+                    else
+                        bad_end++;
+                }
+                for (slong i = 0; i < cv->n; i++) {
+                    const double *X = cv->pt[i].xyz;
+                    double ea = fabs(sqrt(X[1] * X[1] + X[2] * X[2]) - 1);
+                    double eb = fabs(sqrt(X[0] * X[0] + X[2] * X[2]) - 1);
+                    worst = fmax(worst, fmax(ea, eb));
+                    bad_pt += !(ea <= r->tol && eb <= r->tol && fabs(X[0]) <= 1 + r->tol &&
+                                fabs(X[1]) <= 1 + r->tol);
+                }
+            }
+            CHECK(at[0] == 4 && at[1] == 4 && bad_end == 0,
+                  "%s: curve ends at (0, 0, 1): %d, at (0, 0, -1): %d, elsewhere %d", name,
+                  at[0], at[1], bad_end);
+            CHECK(bad_pt == 0 && r->max_dist_a <= r->tol && r->max_dist_b <= r->tol,
+                  "%s: %d points off the cylinders (worst %g, tol %g; reported %g, %g)", name,
+                  bad_pt, worst, r->tol, r->max_dist_a, r->max_dist_b);
+            printf("%-40s %ld curves, %ld pairs (%ld closed form, %ld subdivided), worst %.2g, "
+                   "at own parameters %.2g, %.2g, %.3f s\n",
+                   name, (long)r->n_curves, (long)r->pairs_total, (long)r->pairs_closed_form,
+                   (long)r->pairs_subdivided, worst, r->max_dist_a, r->max_dist_b, secs);
+            cb_ssi_result_clear(r);
+            cb_topo_body_free(A);
+            cb_topo_body_free(B);
+        }
+}
+
+/* The recognition behind the B-spline fast path (ssi/ssi_recog.c): exact rational forms of
+ * cylinders over 1 to 4 arc segments and of planes are recognised, with the analytic (u, v)
+ * mapped to B-spline parameters that give the same point; a net moved by 1e-6 is not. */
+static void test_recognise(void)
+{
+    cb_error err;
+    double spans[4][2] = {{0.3, 1.2}, {-1, 1.5}, {0.5, 4.6}, {0, 2 * PI}};
+    int bad = 0, miss = 0;
+    double worst = 0;
+    for (int c = 0; c < 8; c++) {
+        cb_frame f;
+        double o[3] = {0.3 * c, -1, 2}, z[3] = {1, 0.2 * c - 0.7, 0.5}, ref[3] = {0, 1, 0.1 * c};
+        CHECK(cb_frame_make(&f, o, z, ref, &err) == CB_OK, "%s", err.msg);
+        cb_analytic_surface a;
+        int cyl = c < 6;
+        if (cyl)
+            CHECK(cb_analytic_cylinder(&a, &f, 0.5 + 0.3 * c, &err) == CB_OK, "%s", err.msg);
+        else
+            CHECK(cb_analytic_plane(&a, &f, &err) == CB_OK, "%s", err.msg);
+        double u0 = spans[c % 4][0], u1 = spans[c % 4][1], v0 = -1 + 0.5 * c, v1 = v0 + 3;
+        cb_nurbs_surface_t n;
+        cb_nurbs_surface_init(n);
+        CHECK(cb_analytic_to_nurbs(n, &a, u0, u1, v0, v1, &err) == CB_OK, "%s", err.msg);
+        cb_analytic_surface g;
+        double range[4];
+        if (!_cb_ssi_recognise(&g, range, n, 1e-9)) {
+            miss++;
+        } else {
+            CHECK(g.kind == a.kind && fabs(range[0] - u0) < 1e-12 && fabs(range[1] - u1) < 1e-12,
+                  "recognised %s over [%g, %g]", cb_analytic_kind_name(g.kind), range[0], range[1]);
+            for (int i = 0; i <= 20; i++)
+                for (int j = 0; j <= 2; j++) {
+                    double uv[2] = {u0 + (u1 - u0) * i / 20, v0 + (v1 - v0) * j / 2}, bu[2], p[3],
+                           q[3];
+                    _cb_ssi_recog_param(bu, n, &g, uv);
+                    cb_analytic_eval(p, &a, uv[0], uv[1]);
+                    cb_nurbs_surface_eval(q, n, bu[0], bu[1]);
+                    double e = d3(p, q);
+                    worst = fmax(worst, e);
+                    bad += !(e <= 1e-12);
+                }
+            /* Moved by 1e-6 (delta 1e-9): not the exact form. */
+            n->cw[4 * 1 + 1] += 1e-6 * n->cw[4 * 1 + 3];
+            CHECK(!_cb_ssi_recognise(&g, range, n, 1e-9), "case %d: moved net recognised", c);
+        }
+        cb_nurbs_surface_clear(n);
+    }
+    CHECK(miss == 0 && bad == 0,
+          "recognition: %d exact forms missed, %d mapped points off (worst %g)", miss, bad, worst);
+    printf("recognition: 8 exact forms recognised, mapped parameters within %.2g\n", worst);
+}
+
+int main(int argc, char **argv)
+{
+    const char *only = argc > 1 ? argv[1] : NULL;
+    if (only && !strcmp(only, "steinmetz")) {
+        test_recognise();
+        test_steinmetz();
+        return check_report("test_ssi_analytic");
+    }
     test_plane_plane();
     test_plane_cylinder();
     test_cylinder_cylinder();
@@ -777,5 +929,7 @@ int main(void)
     test_rational_subdivision();
     test_cardan();
     test_prim_bodies();
+    test_recognise();
+    test_steinmetz();
     return check_report("test_ssi_analytic");
 }

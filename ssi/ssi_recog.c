@@ -1,0 +1,307 @@
+/* ssi_recog.c — B-spline faces that are the exact rational forms of planes and cylinders,
+ * routed to the closed forms of the analytic/analytic code (see _cb_ssi_recognised_pair). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ssi/ssi.h"
+
+/* Knots and weights must agree with the conversion's to this relative amount (they are
+ * computed the same way, so in practice they agree bit for bit). */
+#define RECOG_REL 1e-12
+
+static void sub3(double d[3], const double a[3], const double b[3])
+{
+    for (int k = 0; k < 3; k++)
+        d[k] = a[k] - b[k];
+}
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static double norm3(const double a[3]) { return sqrt(dot3(a, a)); }
+
+static void cross3(double c[3], const double a[3], const double b[3])
+{
+    double t[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                   a[0] * b[1] - a[1] * b[0]};
+    memcpy(c, t, sizeof t);
+}
+
+/* Euclidean control point (i, j); 0 if its weight is not positive. */
+static int ctrl(double p[3], const cb_nurbs_surface_struct *s, int i, int j)
+{
+    const double *cw = s->cw + 4 * ((long)i * s->n_v + j);
+    if (!(cw[3] > 0))
+        return 0;
+    for (int k = 0; k < 3; k++)
+        p[k] = cw[k] / cw[3];
+    return 1;
+}
+
+/* s equals c (same degrees, counts, knots and weights to RECOG_REL, Euclidean control points
+ * within delta). */
+static int same_net(const cb_nurbs_surface_struct *s, const cb_nurbs_surface_struct *c,
+                    double delta)
+{
+    if (s->deg_u != c->deg_u || s->deg_v != c->deg_v || s->n_u != c->n_u || s->n_v != c->n_v)
+        return 0;
+    for (int d = 0; d < 2; d++) {
+        const double *ks = d ? s->knots_v : s->knots_u, *kc = d ? c->knots_v : c->knots_u;
+        int n = d ? s->n_v + s->deg_v + 1 : s->n_u + s->deg_u + 1;
+        double span = fabs(ks[n - 1] - ks[0]) + fabs(ks[0]) + fabs(ks[n - 1]);
+        for (int k = 0; k < n; k++)
+            if (!(fabs(ks[k] - kc[k]) <= RECOG_REL * span))
+                return 0;
+    }
+    for (int i = 0; i < s->n_u; i++)
+        for (int j = 0; j < s->n_v; j++) {
+            double p[3], q[3], e[3];
+            const double *ws = s->cw + 4 * ((long)i * s->n_v + j) + 3;
+            const double *wc = c->cw + 4 * ((long)i * c->n_v + j) + 3;
+            if (!ctrl(p, s, i, j) || !ctrl(q, c, i, j) || !(fabs(*ws - *wc) <= RECOG_REL * *wc))
+                return 0;
+            sub3(e, p, q);
+            if (!(norm3(e) <= delta))
+                return 0;
+        }
+    return 1;
+}
+
+/* Checks the candidate a over range against s: its exact rational form over the range must be
+ * s's net. */
+static int confirm(const cb_nurbs_surface_struct *s, const cb_analytic_surface *a,
+                   const double range[4], double delta)
+{
+    cb_nurbs_surface_t c;
+    cb_nurbs_surface_init(c);
+    cb_error err;
+    int ok = cb_analytic_to_nurbs(c, a, range[0], range[1], range[2], range[3], &err) == CB_OK &&
+             same_net(s, c, delta);
+    cb_nurbs_surface_clear(c);
+    return ok;
+}
+
+/* A plane: bilinear, non-rational (equal weights), its parameters unit-speed and orthogonal. */
+static int recog_plane(cb_analytic_surface *a, double range[4], const cb_nurbs_surface_struct *s,
+                       double delta)
+{
+    if (s->deg_u != 1 || s->deg_v != 1 || s->n_u != 2 || s->n_v != 2)
+        return 0;
+    double u0 = s->knots_u[0], u1 = s->knots_u[3], v0 = s->knots_v[0], v1 = s->knots_v[3];
+    if (!(u1 > u0 && v1 > v0))
+        return 0;
+    double p00[3], p10[3], p01[3], x[3], y[3], z[3], o[3];
+    if (!ctrl(p00, s, 0, 0) || !ctrl(p10, s, 1, 0) || !ctrl(p01, s, 0, 1))
+        return 0;
+    sub3(x, p10, p00);
+    sub3(y, p01, p00);
+    for (int k = 0; k < 3; k++) {
+        x[k] /= u1 - u0;
+        y[k] /= v1 - v0;
+    }
+    cross3(z, x, y);
+    if (!(norm3(z) > 0.5))
+        return 0;
+    for (int k = 0; k < 3; k++)
+        o[k] = p00[k] - u0 * x[k] - v0 * y[k];
+    cb_frame f;
+    cb_error err;
+    if (cb_frame_make(&f, o, z, x, &err) != CB_OK || cb_analytic_plane(a, &f, &err) != CB_OK)
+        return 0;
+    range[0] = u0;
+    range[1] = u1;
+    range[2] = v0;
+    range[3] = v1;
+    return confirm(s, a, range, delta);
+}
+
+/* A cylinder: degree (2, 1), a circular arc in u (knots of cb_analytic_to_nurbs: the angles)
+ * times a unit-speed line in v along the axis. */
+static int recog_cylinder(cb_analytic_surface *a, double range[4],
+                          const cb_nurbs_surface_struct *s, double delta)
+{
+    if (s->deg_u != 2 || s->deg_v != 1 || s->n_v != 2 || s->n_u < 3 || s->n_u % 2 == 0 ||
+        s->n_u > 9)
+        return 0;
+    double a0 = s->knots_u[0], a1 = s->knots_u[s->n_u + 2], v0 = s->knots_v[0],
+           v1 = s->knots_v[3];
+    if (!(a1 > a0 && v1 > v0))
+        return 0;
+    double p0[3], p0v[3], m[3], p2[3], z[3];
+    if (!ctrl(p0, s, 0, 0) || !ctrl(p0v, s, 0, 1) || !ctrl(m, s, 1, 0) || !ctrl(p2, s, 2, 0))
+        return 0;
+    sub3(z, p0v, p0);
+    double len = norm3(z);
+    if (!(len > 0))
+        return 0;
+    for (int k = 0; k < 3; k++)
+        z[k] /= len;
+    /* Three points of the first arc: its ends and its middle (tau = 1/2 of the rational
+     * quadratic); the circumcentre in their plane. */
+    double wm = s->cw[4 * (1 * s->n_v) + 3], q[3];
+    for (int k = 0; k < 3; k++)
+        q[k] = (p0[k] + 2 * wm * m[k] + p2[k]) / (2 + 2 * wm);
+    double e1[3], e2[3], n[3], c[3], t1[3], t2[3], t[3];
+    sub3(e1, q, p0);
+    sub3(e2, p2, p0);
+    cross3(n, e1, e2);
+    double nn = dot3(n, n);
+    if (!(nn > 0))
+        return 0;
+    /* c = p0 + ((|e1|^2 e2 - |e2|^2 e1) x n) / (2 |n|^2) */
+    for (int k = 0; k < 3; k++)
+        t[k] = dot3(e1, e1) * e2[k] - dot3(e2, e2) * e1[k];
+    cross3(t1, t, n);
+    for (int k = 0; k < 3; k++)
+        c[k] = p0[k] + t1[k] / (2 * nn);
+    double r0[3];
+    sub3(r0, p0, c);
+    double rad = norm3(r0);
+    if (!(rad > 0))
+        return 0;
+    for (int k = 0; k < 3; k++)
+        r0[k] /= rad;
+    /* x: the direction of angle 0, r0 turned back by a0 about z (y = z x x). */
+    cross3(t2, z, r0);
+    double x[3], o[3];
+    for (int k = 0; k < 3; k++) {
+        x[k] = cos(a0) * r0[k] - sin(a0) * t2[k];
+        o[k] = c[k] - v0 * z[k];
+    }
+    cb_frame f;
+    cb_error err;
+    if (cb_frame_make(&f, o, z, x, &err) != CB_OK || cb_analytic_cylinder(a, &f, rad, &err) != CB_OK)
+        return 0;
+    range[0] = a0;
+    range[1] = a1;
+    range[2] = v0;
+    range[3] = v1;
+    return confirm(s, a, range, delta);
+}
+
+int _cb_ssi_recognise(cb_analytic_surface *a, double range[4], const cb_nurbs_surface_struct *s,
+                      double delta)
+{
+    return recog_plane(a, range, s, delta) || recog_cylinder(a, range, s, delta);
+}
+
+/* B-spline u of the analytic angle u on a recognised cylinder: on the arc segment [t0, t1] of
+ * half angle h (weights 1, cos h, 1) the angle phi from the segment's middle and the local
+ * parameter tau satisfy tan(phi / 2) = tan(h / 2) (2 tau - 1) (the rational quadratic circle is
+ * a Moebius reparameterisation of tan(phi / 2), fixed by tau = 0, 1/2, 1). */
+static double arc_param(const cb_nurbs_surface_struct *s, double u)
+{
+    double a0 = s->knots_u[0], a1 = s->knots_u[s->n_u + 2], per = 2 * CB_SSI_PI;
+    if (u < a0 || u > a1) {
+        /* An angle given modulo the turn: the representative nearest the range. */
+        double w = a0 + fmod(fmod(u - a0, per) + per, per);
+        if (w > a1 && w - per >= a0 - (w - a1))
+            w -= per;
+        u = w;
+    }
+    u = fmin(fmax(u, a0), a1);
+    int nseg = (s->n_u - 1) / 2;
+    int k = 0;
+    while (k < nseg - 1 && u > s->knots_u[2 * k + 3])
+        k++;
+    double t0 = s->knots_u[2 * k + 1], t1 = s->knots_u[2 * k + 3];
+    if (k == 0)
+        t0 = s->knots_u[0];
+    double h = 0.5 * (t1 - t0);
+    if (!(h > 0))
+        return u;
+    double tau = 0.5 * (1 + tan(0.5 * (u - t0 - h)) / tan(0.5 * h));
+    tau = fmin(fmax(tau, 0), 1);
+    return t0 + tau * (t1 - t0);
+}
+
+void _cb_ssi_recog_param(double out[2], const cb_nurbs_surface_struct *s,
+                         const cb_analytic_surface *a, const double uv[2])
+{
+    out[0] = a->kind == CB_ANALYTIC_CYLINDER ? arc_param(s, uv[0]) : uv[0];
+    out[1] = uv[1];
+}
+
+static double nurbs_dist(const cb_nurbs_surface_struct *s, const double uv[2], const double X[3])
+{
+    double p[3], d[3];
+    cb_nurbs_surface_eval(p, s, uv[0], uv[1]);
+    sub3(d, p, X);
+    return norm3(d);
+}
+
+cb_status _cb_ssi_recognised_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
+                                  const cb_ssi_surface *B, int face_a, int face_b,
+                                  const cb_ssi_opts *opts, int *done, cb_error *err)
+{
+    *done = 0;
+    const cb_ssi_surface *in[2] = {A, B};
+    cb_ssi_surface S[2];
+    int rec[2] = {0, 0};
+    for (int k = 0; k < 2; k++) {
+        S[k] = *in[k];
+        if (in[k]->kind != CB_SSI_NURBS)
+            continue;
+        const cb_nurbs_surface_struct *n = in[k]->nurbs;
+        /* Control points within delta of the conversion: a thousandth of the tolerance (the
+         * default tolerance relative to the net's own size when none is given). */
+        double delta = 1e-3 * opts->tol;
+        if (!(opts->tol > 0)) {
+            cb_aabb b;
+            cb_nurbs_surface_aabb(&b, n);
+            double d[3];
+            sub3(d, b.hi, b.lo);
+            delta = 1e-9 * norm3(d);
+        }
+        cb_analytic_surface a;
+        double range[4];
+        if (!_cb_ssi_recognise(&a, range, n, delta))
+            return CB_OK;
+        cb_ssi_surface_set_analytic(S + k, &a, range);
+        rec[k] = 1;
+    }
+    if (!rec[0] && !rec[1])
+        return CB_OK;
+    cb_ssi_result_t t;
+    cb_ssi_result_init(t);
+    cb_error e2; /* a failure here only means: take the B-spline route */
+    cb_error_clear(&e2);
+    cb_status st = _cb_ssi_analytic_pair(t, S, S + 1, face_a, face_b, opts, &e2);
+    /* Only the closed forms are taken: the general route would certify the same surfaces as
+     * the B-spline route does. */
+    if (st == CB_OK && t->pairs_closed_form > 0 && t->n_failed == 0 && t->status == CB_OK) {
+        t->max_dist_a = t->max_dist_b = 0;
+        for (slong c = 0; c <= t->n_curves; c++) {
+            slong np = c < t->n_curves ? t->curve[c].n : t->n_points;
+            for (slong i = 0; i < np; i++) {
+                cb_ssi_point *p = c < t->n_curves ? t->curve[c].pt + i : &t->point[i].p;
+                double *uv[2] = {p->uv_a, p->uv_b};
+                double dist[2];
+                for (int k = 0; k < 2; k++) {
+                    if (rec[k])
+                        _cb_ssi_recog_param(uv[k], in[k]->nurbs, &S[k].analytic, uv[k]);
+                    if (rec[k]) {
+                        dist[k] = nurbs_dist(in[k]->nurbs, uv[k], p->xyz);
+                    } else {
+                        double q[3], d[3];
+                        cb_analytic_eval(q, &S[k].analytic, uv[k][0], uv[k][1]);
+                        sub3(d, q, p->xyz);
+                        dist[k] = norm3(d);
+                    }
+                }
+                t->max_dist_a = fmax(t->max_dist_a, dist[0]);
+                t->max_dist_b = fmax(t->max_dist_b, dist[1]);
+            }
+        }
+        r->tol = t->tol;
+        _cb_ssi_result_move(r, t);
+        *done = 1;
+    }
+    cb_ssi_result_clear(t);
+    (void)err;
+    return CB_OK;
+}
