@@ -281,12 +281,8 @@ int cb_cli_info(int argc, char **argv)
         } else if (!strcmp(argv[k], "--no-mass")) {
             mass = 0;
         } else if (!strcmp(argv[k], "--tol") && k + 1 < argc) {
-            char *end;
-            tol = strtod(argv[++k], &end);
-            if (*end || !(tol > 0) || !isfinite(tol)) {
-                fprintf(stderr, "colibri: --tol needs a positive number, not '%s'\n", argv[k]);
+            if (cb_cli_tol_arg(&tol, argv[++k]))
                 return 2;
-            }
         } else if (argv[k][0] == '-' || path) {
             fputs(INFO_USAGE, stderr);
             return 2;

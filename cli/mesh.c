@@ -51,16 +51,6 @@ static int has_extension(const char *path, const char *ext)
 }
 
 /* Redraws the line when the whole percentage changes (user: the last one shown). */
-static void show_progress(void *user, double fraction, const char *stage)
-{
-    int *last = user, pct = (int)(100 * fraction);
-    if (pct == *last)
-        return;
-    *last = pct;
-    fprintf(stderr, "\r%s %3d%%", stage, pct);
-    fflush(stderr);
-}
-
 static const char *json_flag(int v)
 {
     return v < 0 ? "null" : v ? "true" : "false";
@@ -126,23 +116,13 @@ int cb_cli_mesh(int argc, char **argv)
         } else if (!strcmp(argv[k], "--quiet")) {
             quiet = 1;
         } else if (!strcmp(argv[k], "--threads") && k + 1 < argc) {
-            char *end;
-            long n = strtol(argv[++k], &end, 10);
-            if (end == argv[k] || *end || n < 0 || n > 4096) {
-                fprintf(stderr, "colibri: --threads needs a count in [0, 4096], not '%s'\n",
-                        argv[k]);
+            if (cb_cli_threads_arg(&threads, argv[++k]))
                 return 2;
-            }
-            threads = (int)n;
         } else if (!strcmp(argv[k], "-o") && k + 1 < argc) {
             out = argv[++k];
         } else if (!strcmp(argv[k], "--tol") && k + 1 < argc) {
-            char *end;
-            tol = strtod(argv[++k], &end);
-            if (*end || !(tol > 0) || !isfinite(tol)) {
-                fprintf(stderr, "colibri: --tol needs a positive number, not '%s'\n", argv[k]);
+            if (cb_cli_tol_arg(&tol, argv[++k]))
                 return 2;
-            }
         } else if (argv[k][0] == '-' || path) {
             fputs(MESH_USAGE, stderr);
             return 2;
@@ -176,7 +156,7 @@ int cb_cli_mesh(int argc, char **argv)
     ctx.threads = threads;
     int tty = !quiet && isatty(STDERR_FILENO), shown = -1;
     if (tty) {
-        ctx.progress = show_progress;
+        ctx.progress = cb_cli_progress;
         ctx.user = &shown;
     }
     cb_tess_opts o;

@@ -127,22 +127,11 @@ int cb_cli_ssi(int argc, char **argv)
         } else if (!strcmp(a, "--json") && i + 1 < argc) {
             json = argv[++i];
         } else if (!strcmp(a, "--tol") && i + 1 < argc) {
-            char *end;
-            o.tol = strtod(argv[++i], &end);
-            if (*end || !(o.tol > 0) || !isfinite(o.tol)) {
-                fprintf(stderr, "colibri ssi: --tol needs a positive number, got '%s'\n",
-                        argv[i]);
+            if (cb_cli_tol_arg(&o.tol, argv[++i]))
                 return 2;
-            }
         } else if (!strcmp(a, "--threads") && i + 1 < argc) {
-            char *end;
-            long n = strtol(argv[++i], &end, 10);
-            if (end == argv[i] || *end || n < 0 || n > 4096) {
-                fprintf(stderr, "colibri ssi: --threads needs a count in [0, 4096], got '%s'\n",
-                        argv[i]);
+            if (cb_cli_threads_arg(&o.threads, argv[++i]))
                 return 2;
-            }
-            o.threads = (int)n;
         } else if (!strcmp(a, "--quiet")) {
             quiet = 1;
         } else if (a[0] == '-') {
