@@ -9,7 +9,9 @@
 #ifndef CB_BOOL_H
 #define CB_BOOL_H
 
+#include "brep/context.h"
 #include "brep/face.h"
+#include "ssi/ssi.h"
 
 /* ---------------------------------------------------------------- BVH ---------------------- */
 
@@ -103,5 +105,119 @@ cb_status cb_bool_solid_classify(cb_bool_where *where, const cb_bool_solid *s, c
 /* One point against b: prepares, classifies and releases (use a cb_bool_solid for many). */
 cb_status cb_bool_point_in_solid(cb_bool_where *where, const cb_topo_body *b, const double p[3],
                                  double tol, cb_error *err);
+
+/* ---------------------------------------------------------------- cuts --------------------- */
+
+/* Points of the result closer than this many tolerances are one vertex (see cb_bool_run). */
+#define CB_BOOL_WELD 100
+/* Points of a face's split closer than this many tolerances (in (u, v) scaled by the surface's
+ * largest speeds) are one vertex of its arrangement; the loop polygon is refined to an eighth
+ * of it. Cut ends lie on the exact loops (cb_bool_cuts_make), so it only has to absorb the
+ * polygon's deviation and rounding. */
+#define CB_BOOL_SNAP 10
+
+/* An intersection curve restricted to both its faces: the part of an SSI curve (cb_ssi_bodies)
+ * inside the trimmed domains of face[0] of A and face[1] of B, as a polyline with its
+ * parameters on both faces. uv[s] is in face[s]'s window: a periodic parameter lies in one
+ * period centred on the face's loops (from the seam for a face that spans a whole period), so
+ * the cut and the face's loops are in the same lift; a curve crossing a window's end is split
+ * there into two cuts. closed: the last point repeats the first. */
+typedef struct {
+    int face[2];
+    int curve; /* index of the SSI curve it comes from */
+    int n;     /* points, >= 2 */
+    double *xyz;
+    double *uv[2];
+    double *dir;    /* 3 n: unit tangent of the curve at each point, along the polyline */
+    double *duv[2]; /* 2 n each: d(u, v)/ds on each face along dir (s the arc length) */
+    int closed, tangential;
+} cb_bool_cut;
+
+typedef struct {
+    int n, cap;
+    cb_bool_cut *cut;
+} cb_bool_cuts;
+
+void cb_bool_cuts_init(cb_bool_cuts *c);
+void cb_bool_cuts_clear(cb_bool_cuts *c);
+
+/* The curve through a cut's points as a cubic B-spline whose parameter is the position
+ * along the polyline (segment index + fraction): per segment the cubic Hermite arc with the
+ * points' tangents, G1 at the points, so that the curve in 3D (side -1) and its images in
+ * (u, v) on both faces (side 0, 1) meet each other to fourth order in the point spacing where
+ * the linear polyline would only to second. out (initialised) is replaced. */
+cb_status cb_bool_cut_curve(cb_topo_curve *out, const cb_bool_cut *c, int side, cb_error *err);
+
+/* The cuts of every curve of r (SSI of A's faces against B's, face indices those of the
+ * prepared solids A and B), appended to out. Inside means inside both trimmed faces by the
+ * parity of their loops (cb_face_classify_uv); where a curve leaves a face its exit is found
+ * by bisection along the polyline segment (points, parameters and positions interpolated
+ * linearly, so the exit lies on the face boundary up to the polyline's chord error). A piece
+ * shorter than tol (model units, > 0) that is not closed is dropped: a curve that only grazes
+ * a corner. Tangents: the cross product of the face normals, or where the faces are tangent
+ * (their normals within 1e-6 rad) the central difference of the points; in (u, v) the least
+ * squares solution of J duv = dir (J the surface Jacobian), or the central difference where J
+ * is singular (a pole). Cut ends within CB_BOOL_WELD tol of an earlier cut's end are moved
+ * onto it (curves meeting at a node, computed from two face pairs), their parameters found
+ * again by inversion. Errors: CB_ERR_INVALID for tol, CB_ERR_NOMEM (out is then cleared). */
+cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
+                            const cb_bool_solid *A, const cb_bool_solid *B, double tol,
+                            cb_error *err);
+
+/* ---------------------------------------------------------------- operations --------------- */
+
+typedef enum { CB_BOOL_UNION, CB_BOOL_INTERSECTION, CB_BOOL_DIFFERENCE } cb_bool_op;
+
+/* "union", "intersection", "difference". */
+const char *cb_bool_op_name(cb_bool_op op);
+
+/* Default tolerance: this fraction of the diagonal of the box of both operands (the SSI's). */
+#define CB_BOOL_REL_TOL 1e-6
+/* Default chord of the intersection polylines (the sagitta of a segment), same fraction. */
+#define CB_BOOL_REL_CHORD 1e-4
+
+typedef struct {
+    double tol;   /* model units; <= 0: CB_BOOL_REL_TOL times the operands' size */
+    double chord; /* model units; <= 0: CB_BOOL_REL_CHORD times the operands' size */
+} cb_bool_opts;
+
+/* tol = chord = 0: the defaults. */
+void cb_bool_opts_init(cb_bool_opts *o);
+
+typedef struct {
+    int curves, points; /* intersection curves and isolated points (SSI) */
+    int cuts;           /* curve pieces inside both faces (cb_bool_cuts_make) */
+    int pieces[2];      /* face pieces of A and of B after splitting */
+    int kept[2];        /* of which the operation keeps */
+    int unmatched;      /* result edges not used by exactly two coedges */
+    double time_ssi, time_split, time_build; /* seconds */
+} cb_bool_stats;
+
+/* The union, intersection or difference A - B of two closed solids as a new body *out (free
+ * with cb_topo_body_free). A and B: indexed (cb_topo_body_index), a pcurve on every coedge,
+ * every shell a solid's and closed (each edge used by two coedges): CB_ERR_INVALID naming
+ * what fails otherwise.
+ *
+ * Method: the intersection curves of every face pair (cb_ssi_bodies; a pair that cannot be
+ * certified makes the operation fail with CB_ERR_UNSUPPORTED or the pair's status, naming
+ * it: nothing is guessed), restricted to both faces (cb_bool_cuts_make); each face of A and B
+ * split in its (u, v) domain along its cuts (the 2D arrangement of its loop polygon and cuts,
+ * boolean/arrange.h); each region classified by a point inside it against the other solid
+ * (cb_bool_solid_classify) and kept as the operation selects (union: outside, intersection:
+ * inside, difference: A's outside and B's inside, turned); the kept regions become faces on
+ * copies of their surfaces, their boundary pieces edges on copies of the original edge
+ * curves, their cuts degree-1 B-spline edges through the intersection points with degree-1
+ * pcurves; pieces are sewn into shared edges where their end vertices (welded within
+ * CB_BOOL_WELD tol) and midpoints agree; the other pcurves are computed (cb_topo_compute_pcurves).
+ * The result is one solid with one shell holding every kept face (its connected parts and
+ * voids are not separated into solids yet).
+ *
+ * Not handled yet, reported and never guessed: a region lying on the other solid (coincident
+ * faces: CB_ERR_UNSUPPORTED), pieces that do not sew up (CB_ERR_NUMERIC with the count). Isolated
+ * touching points do not split faces. ctx: threads for the SSI, progress (stage "boolean"),
+ * cancellation between faces; may be NULL. stats may be NULL. */
+cb_status cb_bool_run(cb_topo_body **out, cb_bool_stats *stats, cb_bool_op op,
+                      const cb_topo_body *A, const cb_topo_body *B, const cb_bool_opts *opts,
+                      cb_context *ctx, cb_error *err);
 
 #endif

@@ -21,6 +21,8 @@ static void usage(FILE *out)
             "  ssi A B       intersection curves of the faces of two STEP models\n"
             "  mesh MODEL    tessellate a STEP model into a checked watertight mesh\n"
             "                (-o OUT.stl|obj|ply|off, --tol T)\n"
+            "  bool OP A B   union, intersection or difference of two STEP solids\n"
+            "                (-o OUT.step|stl|obj|ply|off, --json REPORT)\n"
             "\n"
             "Run 'colibri COMMAND --help' for the options of a command.\n"
             "\n"
@@ -77,7 +79,8 @@ int main(int argc, char **argv)
                     {"model", cb_cli_model},
                     {"check", cb_cli_check},
                     {"ssi", cb_cli_ssi},
-                    {"mesh", cb_cli_mesh}};
+                    {"mesh", cb_cli_mesh},
+                    {"bool", cb_cli_bool}};
     for (size_t c = 0; c < sizeof commands / sizeof *commands; c++)
         if (!strcmp(cmd, commands[c].name)) {
             int code = cb_cli_limits_apply(&lim);

@@ -1,0 +1,706 @@
+/* cut.c — intersection curves restricted to both trimmed faces and brought into each face's
+ * (u, v) window, ready to split the faces (cb_bool_cuts_make). */
+#include "boolean/bool.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* One curve point with its parameters on both faces. */
+typedef struct {
+    double xyz[3];
+    double uv[2][2];
+} cut_pt;
+
+typedef struct {
+    int n, cap;
+    cut_pt *p;
+} cut_run;
+
+static int run_push(cut_run *r, const cut_pt *p)
+{
+    if (r->n == r->cap) {
+        int cap = r->cap ? 2 * r->cap : 32;
+        cut_pt *q = realloc(r->p, (size_t)cap * sizeof *q);
+        if (!q)
+            return -1;
+        r->p = q;
+        r->cap = cap;
+    }
+    r->p[r->n++] = *p;
+    return 0;
+}
+
+static void lerp_pt(cut_pt *out, const cut_pt *a, const cut_pt *b, double t)
+{
+    for (int k = 0; k < 3; k++)
+        out->xyz[k] = a->xyz[k] + t * (b->xyz[k] - a->xyz[k]);
+    for (int s = 0; s < 2; s++)
+        for (int k = 0; k < 2; k++)
+            out->uv[s][k] = a->uv[s][k] + t * (b->uv[s][k] - a->uv[s][k]);
+}
+
+static double norm3(const double a[3])
+{
+    return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+}
+
+void cb_bool_cuts_init(cb_bool_cuts *c)
+{
+    memset(c, 0, sizeof *c);
+}
+
+void cb_bool_cuts_clear(cb_bool_cuts *c)
+{
+    for (int k = 0; k < c->n; k++) {
+        free(c->cut[k].xyz);
+        free(c->cut[k].uv[0]);
+        free(c->cut[k].uv[1]);
+        free(c->cut[k].dir);
+        free(c->cut[k].duv[0]);
+        free(c->cut[k].duv[1]);
+    }
+    free(c->cut);
+    memset(c, 0, sizeof *c);
+}
+
+/* Appends run r (at least two points, or a closed run of three) as a cut. */
+static void tangents(cb_bool_cut *k, const cb_face *const f[2]);
+
+static cb_status emit(cb_bool_cuts *out, const cut_run *r, const cb_ssi_curve *c, int curve,
+                      int closed, double min_gap, const cb_face *const f[2], cb_error *err)
+{
+    if (out->n == out->cap) {
+        int cap = out->cap ? 2 * out->cap : 16;
+        cb_bool_cut *q = realloc(out->cut, (size_t)cap * sizeof *q);
+        if (!q)
+            return cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
+        out->cut = q;
+        out->cap = cap;
+    }
+    cb_bool_cut *k = out->cut + out->n;
+    memset(k, 0, sizeof *k);
+    k->xyz = malloc((size_t)r->n * 3 * sizeof(double));
+    k->uv[0] = malloc((size_t)r->n * 2 * sizeof(double));
+    k->uv[1] = malloc((size_t)r->n * 2 * sizeof(double));
+    k->dir = malloc((size_t)r->n * 3 * sizeof(double));
+    k->duv[0] = malloc((size_t)r->n * 2 * sizeof(double));
+    k->duv[1] = malloc((size_t)r->n * 2 * sizeof(double));
+    if (!k->xyz || !k->uv[0] || !k->uv[1] || !k->dir || !k->duv[0] || !k->duv[1]) {
+        free(k->xyz);
+        free(k->uv[0]);
+        free(k->uv[1]);
+        free(k->dir);
+        free(k->duv[0]);
+        free(k->duv[1]);
+        return cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
+    }
+    /* Points closer than min_gap to the kept one before are dropped (a crossing or an exit
+     * found at a polyline point); the last point stays. */
+    int m = 0;
+    for (int i = 0; i < r->n; i++) {
+        if (m > 0) {
+            double d2 = 0;
+            for (int j = 0; j < 3; j++)
+                d2 += (r->p[i].xyz[j] - k->xyz[3 * (m - 1) + j]) *
+                      (r->p[i].xyz[j] - k->xyz[3 * (m - 1) + j]);
+            if (d2 <= min_gap * min_gap) {
+                if (i + 1 < r->n || m == 1)
+                    continue;
+                m--;
+            }
+        }
+        memcpy(k->xyz + 3 * m, r->p[i].xyz, sizeof r->p[i].xyz);
+        memcpy(k->uv[0] + 2 * m, r->p[i].uv[0], 2 * sizeof(double));
+        memcpy(k->uv[1] + 2 * m, r->p[i].uv[1], 2 * sizeof(double));
+        m++;
+    }
+    if (m < 2) {
+        free(k->xyz);
+        free(k->uv[0]);
+        free(k->uv[1]);
+        free(k->dir);
+        free(k->duv[0]);
+        free(k->duv[1]);
+        return CB_OK;
+    }
+    k->n = m;
+    k->face[0] = c->face_a;
+    k->face[1] = c->face_b;
+    k->curve = curve;
+    k->closed = closed;
+    k->tangential = c->tangential;
+    tangents(k, f);
+    out->n++;
+    return CB_OK;
+}
+
+/* The window of periodic direction i of a face: [lo, lo + period), centred on the loops' box,
+ * so that every point of the trimmed face has one lift in it. */
+static double window_lo(const cb_face *f, int i)
+{
+    double P = f->inv.period[i];
+    double c = 0.5 * (f->uv_box[2 * i] + f->uv_box[2 * i + 1]);
+    double w = f->uv_box[2 * i + 1] - f->uv_box[2 * i];
+    /* A face spanning the whole period has its seam at the box's ends: keep them as the
+     * window's. */
+    return w >= P * (1 - 1e-9) ? f->uv_box[2 * i] : c - 0.5 * P;
+}
+
+static double wrap(double x, double lo, double P)
+{
+    double w = lo + fmod(x - lo, P);
+    if (w < lo)
+        w += P;
+    if (w >= lo + P)
+        w -= P;
+    return w;
+}
+
+static int length_over(const cut_run *r, double min_len)
+{
+    double len = 0;
+    for (int i = 1; i < r->n && len <= min_len; i++) {
+        double d2 = 0;
+        for (int k = 0; k < 3; k++)
+            d2 += (r->p[i].xyz[k] - r->p[i - 1].xyz[k]) * (r->p[i].xyz[k] - r->p[i - 1].xyz[k]);
+        len += sqrt(d2);
+    }
+    return len > min_len;
+}
+
+typedef struct {
+    const cb_face *f[2];
+    double lo[2][2], P[2][2]; /* per side and direction; P 0 where not periodic */
+    double min_len;
+} cut_ctx;
+
+/* Solves the 4 x 4 system J d = r in place (Gaussian elimination, partial pivoting); 0 when
+ * singular. */
+static int solve4(double J[4][4], double r[4])
+{
+    for (int c = 0; c < 4; c++) {
+        int p = c;
+        for (int i = c + 1; i < 4; i++)
+            if (fabs(J[i][c]) > fabs(J[p][c]))
+                p = i;
+        if (!(fabs(J[p][c]) > 0))
+            return 0;
+        for (int k = 0; k < 4; k++) {
+            double t = J[c][k];
+            J[c][k] = J[p][k];
+            J[p][k] = t;
+        }
+        double t = r[c];
+        r[c] = r[p];
+        r[p] = t;
+        for (int i = c + 1; i < 4; i++) {
+            double f = J[i][c] / J[c][c];
+            for (int k = c; k < 4; k++)
+                J[i][k] -= f * J[c][k];
+            r[i] -= f * r[c];
+        }
+    }
+    for (int c = 3; c >= 0; c--) {
+        for (int k = c + 1; k < 4; k++)
+            r[c] -= J[c][k] * r[k];
+        r[c] /= J[c][c];
+    }
+    return 1;
+}
+
+/* Moves m (a point interpolated between two curve points) onto the intersection curve: the
+ * point on both surfaces in the plane through m normal to t (unit), by Newton steps from m's
+ * parameters. Leaves m as it is when they do not converge within a tenth of the tolerance
+ * (tangent surfaces: the system is singular there) or wander farther than reach. */
+static void refine_pt(cut_pt *m, const cut_ctx *cx, const double t[3], double reach)
+{
+    cut_pt x = *m;
+    double tol = 0.1 * cx->min_len;
+    for (int it = 0; it < 12; it++) {
+        double da[6][3], db[6][3];
+        cb_topo_inverter_eval_derivs(da, &cx->f[0]->inv, x.uv[0][0], x.uv[0][1]);
+        cb_topo_inverter_eval_derivs(db, &cx->f[1]->inv, x.uv[1][0], x.uv[1][1]);
+        double r[4], J[4][4], gap = 0, off = 0;
+        for (int k = 0; k < 3; k++) {
+            r[k] = db[0][k] - da[0][k];
+            gap += r[k] * r[k];
+            off += (da[0][k] - m->xyz[k]) * t[k];
+            J[k][0] = da[1][k];
+            J[k][1] = da[2][k];
+            J[k][2] = -db[1][k];
+            J[k][3] = -db[2][k];
+        }
+        r[3] = -off;
+        J[3][0] = da[1][0] * t[0] + da[1][1] * t[1] + da[1][2] * t[2];
+        J[3][1] = da[2][0] * t[0] + da[2][1] * t[1] + da[2][2] * t[2];
+        J[3][2] = J[3][3] = 0;
+        if (sqrt(gap) <= tol && fabs(off) <= tol) {
+            double d[3];
+            for (int k = 0; k < 3; k++) {
+                x.xyz[k] = 0.5 * (da[0][k] + db[0][k]);
+                d[k] = x.xyz[k] - m->xyz[k];
+            }
+            if (norm3(d) <= reach)
+                *m = x;
+            return;
+        }
+        if (!solve4(J, r))
+            return;
+        x.uv[0][0] += r[0];
+        x.uv[0][1] += r[1];
+        x.uv[1][0] += r[2];
+        x.uv[1][1] += r[3];
+    }
+}
+
+/* Bisection on the curve between a (where before(a) holds) and b (where it does not): the
+ * midpoints are moved onto the curve (refine_pt) while the step is long enough for the chord
+ * to stray, then halved until a thousandth of the tolerance. Returns the last point where
+ * before holds. */
+static void bisect_on_curve(cut_pt *out, const cut_ctx *cx, const cut_pt *a, const cut_pt *b,
+                            int (*before)(const cut_ctx *, const cut_pt *, const void *),
+                            const void *arg)
+{
+    cut_pt lo = *a, hi = *b, m;
+    for (int it = 0; it < 80; it++) {
+        double ch[3];
+        for (int k = 0; k < 3; k++)
+            ch[k] = hi.xyz[k] - lo.xyz[k];
+        double L = norm3(ch);
+        if (L <= 1e-3 * cx->min_len)
+            break;
+        lerp_pt(&m, &lo, &hi, 0.5);
+        if (L > 1e-2 * cx->min_len) {
+            for (int k = 0; k < 3; k++)
+                ch[k] /= L;
+            refine_pt(&m, cx, ch, L);
+        }
+        if (before(cx, &m, arg))
+            lo = m;
+        else
+            hi = m;
+    }
+    *out = lo;
+}
+
+typedef struct {
+    int s, d;
+    double end;
+    int up;
+} cross_arg;
+
+/* The point has not reached the window's end yet (parameters unwrapped from the step's
+ * start). */
+static int short_of_end(const cut_ctx *cx, const cut_pt *p, const void *arg)
+{
+    (void)cx;
+    const cross_arg *c = arg;
+    return c->up ? p->uv[c->s][c->d] < c->end : p->uv[c->s][c->d] > c->end;
+}
+
+/* Where the step a -> b (wrapped parameters) crosses a window's end first, over both sides
+ * and directions: the crossing point as the end of the piece before it and as the start of
+ * the piece after it (the same point, its crossed parameter at the window's two ends).
+ * Returns 0 when the step crosses none. */
+static int find_cross(const cut_ctx *cx, const cut_pt *a, const cut_pt *b, cut_pt *before,
+                      cut_pt *after)
+{
+    double tcross = 2;
+    int cs = -1, cd = -1;
+    for (int s = 0; s < 2; s++)
+        for (int d = 0; d < 2; d++) {
+            double P = cx->P[s][d];
+            if (P <= 0)
+                continue;
+            double x = a->uv[s][d], y = b->uv[s][d];
+            if (fabs(y - x) <= 0.5 * P)
+                continue;
+            double yu = y > x ? y - P : y + P; /* y unwrapped next to x */
+            double end = yu > x ? cx->lo[s][d] + P : cx->lo[s][d];
+            double t = (end - x) / (yu - x);
+            if (t < tcross) {
+                tcross = t;
+                cs = s;
+                cd = d;
+            }
+        }
+    if (cs < 0)
+        return 0;
+    double P = cx->P[cs][cd], lo = cx->lo[cs][cd];
+    /* b unwrapped next to a in every periodic parameter, so that the points between are
+     * interpolated in one lift (both faces may cross a seam on the same step) */
+    cut_pt bu = *b;
+    for (int s = 0; s < 2; s++)
+        for (int d = 0; d < 2; d++)
+            if (cx->P[s][d] > 0)
+                bu.uv[s][d] += cx->P[s][d] *
+                               nearbyint((a->uv[s][d] - bu.uv[s][d]) / cx->P[s][d]);
+    int up = bu.uv[cs][cd] > a->uv[cs][cd]; /* the step runs up across the upper end */
+    cross_arg ca = {cs, cd, up ? lo + P : lo, up};
+    bisect_on_curve(before, cx, a, &bu, short_of_end, &ca);
+    *after = *before;
+    before->uv[cs][cd] = up ? lo + P : lo;
+    after->uv[cs][cd] = up ? lo : lo + P;
+    for (int s = 0; s < 2; s++)
+        for (int d = 0; d < 2; d++)
+            if (cx->P[s][d] > 0 && (s != cs || d != cd))
+                after->uv[s][d] = wrap(after->uv[s][d], cx->lo[s][d], cx->P[s][d]);
+    return 1;
+}
+
+/* Wraps the periodic parameters of run r into the faces' windows and splits it where a lift
+ * jumps (the curve crosses a window's end, the seam of a face spanning a whole period). A
+ * closed run with a crossing is first rotated to start and end there. Emits the pieces. */
+static cb_status split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cut_ctx *cx,
+                            const cb_ssi_curve *c, int curve, cb_error *err)
+{
+    if (!closed && !length_over(r, cx->min_len))
+        return CB_OK; /* a curve grazing a corner of a face: no piece to split by */
+    for (int i = 0; i < r->n; i++)
+        for (int s = 0; s < 2; s++)
+            for (int d = 0; d < 2; d++)
+                if (cx->P[s][d] > 0)
+                    r->p[i].uv[s][d] = wrap(r->p[i].uv[s][d], cx->lo[s][d], cx->P[s][d]);
+    cut_pt before, after;
+    int first = -1;
+    for (int i = 0; i + 1 < r->n && first < 0; i++)
+        if (find_cross(cx, r->p + i, r->p + i + 1, &before, &after))
+            first = i;
+    if (first < 0)
+        return emit(out, r, c, curve, closed, 1e-6 * cx->min_len, cx->f, err);
+    cut_run rot = {0, 0, NULL}, piece = {0, 0, NULL};
+    int fail = 0;
+    if (closed) {
+        /* From the crossing round to it: after, p[first + 1 ..], p[1 .. first], before (the
+         * last point repeats the first). */
+        fail |= run_push(&rot, &after);
+        for (int i = first + 1; i < r->n; i++)
+            fail |= run_push(&rot, r->p + i);
+        for (int i = 1; i <= first; i++)
+            fail |= run_push(&rot, r->p + i);
+        fail |= run_push(&rot, &before);
+        r = &rot;
+    }
+    cb_status st = CB_OK;
+    for (int i = 0; i < r->n && !fail && !st; i++) {
+        fail |= run_push(&piece, r->p + i);
+        if (i + 1 < r->n && find_cross(cx, r->p + i, r->p + i + 1, &before, &after)) {
+            fail |= run_push(&piece, &before);
+            if (!fail && length_over(&piece, 0.1 * cx->min_len))
+                st = emit(out, &piece, c, curve, 0, 1e-6 * cx->min_len, cx->f, err);
+            piece.n = 0;
+            fail |= run_push(&piece, &after);
+        }
+    }
+    if (!fail && !st && piece.n >= 2 && length_over(&piece, 0.1 * cx->min_len))
+        st = emit(out, &piece, c, curve, 0, 1e-6 * cx->min_len, cx->f, err);
+    free(piece.p);
+    free(rot.p);
+    if (fail && !st)
+        st = cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
+    return st;
+}
+
+static int inside_both(const cut_ctx *cx, const cut_pt *p, double cls_tol)
+{
+    for (int s = 0; s < 2; s++)
+        if (cb_face_classify_uv(cx->f[s], p->uv[s][0], p->uv[s][1], cls_tol) == CB_FACE_OUT)
+            return 0;
+    return 1;
+}
+
+static int inside_pred(const cut_ctx *cx, const cut_pt *p, const void *arg)
+{
+    return inside_both(cx, p, *(const double *)arg);
+}
+
+/* The point where the curve from a (inside) to b (outside) leaves the faces. */
+static void exit_point(cut_pt *out, const cut_ctx *cx, const cut_pt *a, const cut_pt *b,
+                       double cls_tol)
+{
+    bisect_on_curve(out, cx, a, b, inside_pred, &cls_tol);
+}
+
+/* Central (one-sided at open ends, wrapping at closed ones) difference at point i of the
+ * dim-vectors pts, and the 3D length of the same step. */
+static void difference(double *d, double *len, const cb_bool_cut *k, const double *pts, int dim,
+                       int i)
+{
+    int a = i - 1, z = i + 1;
+    if (a < 0)
+        a = k->closed ? k->n - 2 : 0;
+    if (z >= k->n)
+        z = k->closed ? 1 : k->n - 1;
+    for (int j = 0; j < dim; j++)
+        d[j] = pts[dim * z + j] - pts[dim * a + j];
+    double e[3];
+    for (int j = 0; j < 3; j++)
+        e[j] = k->xyz[3 * z + j] - k->xyz[3 * a + j];
+    *len = norm3(e);
+}
+
+/* Tangents of cut k (see cb_bool_cuts_make). */
+static void tangents(cb_bool_cut *k, const cb_face *const f[2])
+{
+    for (int i = 0; i < k->n; i++) {
+        double d[6][2][3], n[2][3], chord[3], len;
+        difference(chord, &len, k, k->xyz, 3, i);
+        for (int s = 0; s < 2; s++) {
+            double dd[6][3];
+            cb_topo_inverter_eval_derivs(dd, &f[s]->inv, k->uv[s][2 * i], k->uv[s][2 * i + 1]);
+            memcpy(d[1][s], dd[1], sizeof dd[1]);
+            memcpy(d[2][s], dd[2], sizeof dd[2]);
+            n[s][0] = dd[1][1] * dd[2][2] - dd[1][2] * dd[2][1];
+            n[s][1] = dd[1][2] * dd[2][0] - dd[1][0] * dd[2][2];
+            n[s][2] = dd[1][0] * dd[2][1] - dd[1][1] * dd[2][0];
+        }
+        double t[3] = {n[0][1] * n[1][2] - n[0][2] * n[1][1], n[0][2] * n[1][0] - n[0][0] * n[1][2],
+                       n[0][0] * n[1][1] - n[0][1] * n[1][0]};
+        double tl = norm3(t), cl = norm3(chord);
+        double *dir = k->dir + 3 * i;
+        if (tl > 1e-6 * norm3(n[0]) * norm3(n[1]) && cl > 0) {
+            double sgn = t[0] * chord[0] + t[1] * chord[1] + t[2] * chord[2] < 0 ? -1 : 1;
+            for (int j = 0; j < 3; j++)
+                dir[j] = sgn * t[j] / tl;
+        } else {
+            for (int j = 0; j < 3; j++)
+                dir[j] = cl > 0 ? chord[j] / cl : 0;
+        }
+        for (int s = 0; s < 2; s++) {
+            /* J^T J x = J^T dir, J = [S_u S_v] */
+            const double *su = d[1][s], *sv = d[2][s];
+            double a = su[0] * su[0] + su[1] * su[1] + su[2] * su[2];
+            double b = su[0] * sv[0] + su[1] * sv[1] + su[2] * sv[2];
+            double c = sv[0] * sv[0] + sv[1] * sv[1] + sv[2] * sv[2];
+            double p = su[0] * dir[0] + su[1] * dir[1] + su[2] * dir[2];
+            double q = sv[0] * dir[0] + sv[1] * dir[1] + sv[2] * dir[2];
+            double det = a * c - b * b;
+            double *w = k->duv[s] + 2 * i;
+            if (det > 1e-12 * a * c && det > 0) {
+                w[0] = (c * p - b * q) / det;
+                w[1] = (a * q - b * p) / det;
+            } else {
+                double du[2], l3;
+                difference(du, &l3, k, k->uv[s], 2, i);
+                w[0] = l3 > 0 ? du[0] / l3 : 0;
+                w[1] = l3 > 0 ? du[1] / l3 : 0;
+            }
+        }
+    }
+}
+
+cb_status cb_bool_cut_curve(cb_topo_curve *out, const cb_bool_cut *c, int side, cb_error *err)
+{
+    int dim = side < 0 ? 3 : 2, m = 3 * (c->n - 1) + 1;
+    const double *pts = side < 0 ? c->xyz : c->uv[side];
+    const double *tan = side < 0 ? c->dir : c->duv[side];
+    double *P = calloc((size_t)m * 3, sizeof(double));
+    double *K = malloc((size_t)(m + 4) * sizeof(double));
+    if (!P || !K) {
+        free(P);
+        free(K);
+        return cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
+    }
+    for (int i = 0; i + 1 < c->n; i++) {
+        double e[3];
+        for (int j = 0; j < 3; j++)
+            e[j] = c->xyz[3 * (i + 1) + j] - c->xyz[3 * i + j];
+        double L = norm3(e) / 3;
+        for (int j = 0; j < dim; j++) {
+            P[3 * (3 * i) + j] = pts[dim * i + j];
+            P[3 * (3 * i + 1) + j] = pts[dim * i + j] + L * tan[dim * i + j];
+            P[3 * (3 * i + 2) + j] = pts[dim * (i + 1) + j] - L * tan[dim * (i + 1) + j];
+            P[3 * (3 * i + 3) + j] = pts[dim * (i + 1) + j];
+        }
+    }
+    /* Knots: 0 four times, every inner position three times, n - 1 four times. */
+    int j = 0;
+    for (int r = 0; r < 4; r++)
+        K[j++] = 0;
+    for (int i = 1; i + 1 < c->n; i++)
+        for (int r = 0; r < 3; r++)
+            K[j++] = i;
+    for (int r = 0; r < 4; r++)
+        K[j++] = c->n - 1;
+    out->kind = CB_CURVE_NURBS;
+    cb_status st = cb_nurbs_curve_make(out->nurbs, 3, K, m + 4, P, NULL, m, err);
+    free(P);
+    free(K);
+    return st;
+}
+
+/* At a pole (a point where S_u or S_v vanishes: a sphere's poles, a cone's apex) the
+ * parameter along the collapsed line is arbitrary, and the SSI gives whatever its inversion
+ * found; the curve's own limit is its neighbour's value. Set it so, lest the polyline run
+ * along the pole line (or across a period) at its end. */
+static void settle_poles(cut_pt *p, int n, int side, const cb_face *f)
+{
+    for (int d = 0; d < 2; d++)
+        for (int i = 0; i < n; i++) {
+            double dd[6][3];
+            cb_topo_inverter_eval_derivs(dd, &f->inv, p[i].uv[side][0], p[i].uv[side][1]);
+            double a = norm3(dd[1 + d]), b = norm3(dd[2 - d]);
+            if (!(a <= 1e-9 * b))
+                continue;
+            int j = i > 0 ? i - 1 : i + 1;
+            if (j < n)
+                p[i].uv[side][d] = p[j].uv[side][d];
+        }
+}
+
+/* Curves that meet at a node (where an intersection curve passes from one face to the next)
+ * reach it from two face pairs computed apart, so their ends differ by up to the polyline's
+ * chord error. Ends within weld of an earlier end (in cut order) are moved onto it, their
+ * parameters found again on both faces from the old ones, so that the pieces sewn at the node
+ * meet in (u, v) as well as in space. */
+static void snap_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_solid *B,
+                      double weld)
+{
+    for (int k = 0; k < out->n; k++) {
+        cb_bool_cut *c = out->cut + k;
+        if (c->closed)
+            continue;
+        int moved = 0;
+        for (int e = 0; e < 2; e++) {
+            int i = e ? c->n - 1 : 0;
+            double *x = c->xyz + 3 * i;
+            const double *to = NULL;
+            for (int j = 0; j < k && !to; j++) {
+                const cb_bool_cut *d = out->cut + j;
+                if (d->closed)
+                    continue;
+                for (int f = 0; f < 2 && !to; f++) {
+                    const double *y = d->xyz + 3 * (f ? d->n - 1 : 0);
+                    double g[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
+                    if (norm3(g) <= weld && norm3(g) > 0)
+                        to = y;
+                }
+            }
+            if (!to)
+                continue;
+            memcpy(x, to, 3 * sizeof(double));
+            const cb_face *f[2] = {cb_bool_solid_face(A, c->face[0]),
+                                   cb_bool_solid_face(B, c->face[1])};
+            for (int s = 0; s < 2; s++) {
+                double guess[2] = {c->uv[s][2 * i], c->uv[s][2 * i + 1]};
+                double *uv = c->uv[s] + 2 * i;
+                cb_topo_inverter_invert(uv, &f[s]->inv, x, guess);
+                /* keep the lift the cut had (a node on a seam has two), and at a pole the
+                 * parameter the cut arrived with (settle_poles) */
+                double dd[6][3];
+                cb_topo_inverter_eval_derivs(dd, &f[s]->inv, uv[0], uv[1]);
+                for (int d = 0; d < 2; d++) {
+                    double P = f[s]->inv.period[d];
+                    if (norm3(dd[1 + d]) <= 1e-9 * norm3(dd[2 - d]))
+                        uv[d] = guess[d];
+                    else if (P > 0)
+                        uv[d] += P * nearbyint((guess[d] - uv[d]) / P);
+                }
+            }
+            moved = 1;
+        }
+        if (moved) {
+            const cb_face *f[2] = {cb_bool_solid_face(A, c->face[0]),
+                                   cb_bool_solid_face(B, c->face[1])};
+            tangents(c, f);
+        }
+    }
+}
+
+cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
+                            const cb_bool_solid *A, const cb_bool_solid *B, double tol,
+                            cb_error *err)
+{
+    if (!(tol > 0) || !isfinite(tol))
+        return cb_error_set(err, CB_ERR_INVALID, "cuts: tolerance %g is not positive", tol);
+    cb_status st = CB_OK;
+    /* Parity alone decides inside/outside: an ON answer (within this of an edge) counts as
+     * inside, and the exit point is then refined by the bisection. */
+    double cls_tol = 1e-3 * tol;
+    for (slong k = 0; k < r->n_curves && !st; k++) {
+        const cb_ssi_curve *c = r->curve + k;
+        if (c->n < 2)
+            continue;
+        cut_ctx cx;
+        cx.f[0] = cb_bool_solid_face(A, c->face_a);
+        cx.f[1] = cb_bool_solid_face(B, c->face_b);
+        cx.min_len = tol;
+        for (int s = 0; s < 2; s++)
+            for (int d = 0; d < 2; d++) {
+                cx.P[s][d] = cx.f[s]->inv.period[d];
+                cx.lo[s][d] = cx.P[s][d] > 0 ? window_lo(cx.f[s], d) : 0;
+            }
+        int n = (int)c->n;
+        cut_pt *pts = malloc((size_t)n * sizeof *pts);
+        char *in = malloc((size_t)n);
+        if (!pts || !in) {
+            free(pts);
+            free(in);
+            return cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
+        }
+        int n_in = 0, first_out = -1;
+        for (int i = 0; i < n; i++) {
+            memcpy(pts[i].xyz, c->pt[i].xyz, sizeof pts[i].xyz);
+            memcpy(pts[i].uv[0], c->pt[i].uv_a, 2 * sizeof(double));
+            memcpy(pts[i].uv[1], c->pt[i].uv_b, 2 * sizeof(double));
+        }
+        for (int s = 0; s < 2; s++)
+            settle_poles(pts, n, s, cx.f[s]);
+        for (int i = 0; i < n; i++) {
+            in[i] = (char)inside_both(&cx, pts + i, cls_tol);
+            n_in += in[i];
+            if (!in[i] && first_out < 0)
+                first_out = i;
+        }
+        cut_run run = {0, 0, NULL};
+        if (n_in == n) {
+            for (int i = 0; i < n && !st; i++)
+                if (run_push(&run, pts + i))
+                    st = cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
+            if (!st)
+                st = split_emit(out, &run, c->closed, &cx, c, (int)k, err);
+        } else if (n_in > 0) {
+            /* Walk the points once (a closed curve from an outside point round to it), one
+             * run per stretch inside, cut at the exit points. */
+            int start = c->closed ? first_out : 0, steps = c->closed ? n - 1 : n;
+            int prev_in = 0;
+            const cut_pt *prev = NULL;
+            for (int j = 0; j <= steps && !st; j++) {
+                if (!c->closed && j == steps)
+                    break;
+                int i = c->closed ? (start + j) % (n - 1) : j;
+                const cut_pt *p = pts + i;
+                if (in[i] && !prev_in && prev) {
+                    cut_pt x;
+                    exit_point(&x, &cx, p, prev, cls_tol);
+                    if (run_push(&run, &x))
+                        st = cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
+                }
+                if (in[i] && !st && run_push(&run, p))
+                    st = cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
+                if (!in[i] && prev_in && !st) {
+                    cut_pt x;
+                    exit_point(&x, &cx, prev, p, cls_tol);
+                    if (run_push(&run, &x))
+                        st = cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
+                    else if (run.n >= 2)
+                        st = split_emit(out, &run, 0, &cx, c, (int)k, err);
+                    run.n = 0;
+                }
+                prev_in = in[i];
+                prev = p;
+            }
+            if (!st && run.n >= 2)
+                st = split_emit(out, &run, 0, &cx, c, (int)k, err);
+        }
+        free(run.p);
+        free(pts);
+        free(in);
+    }
+    if (!st)
+        snap_ends(out, A, B, CB_BOOL_WELD * tol);
+    if (st)
+        cb_bool_cuts_clear(out);
+    return st;
+}

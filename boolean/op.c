@@ -1,0 +1,423 @@
+/* op.c — union, intersection and difference of two closed B-reps (cb_bool_run): intersection,
+ * cuts, faces split in their parameter domains, pieces classified and selected, result sewn. */
+#define _POSIX_C_SOURCE 200809L
+#include "boolean/op_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "boolean/arrange.h"
+
+const char *cb_bool_op_name(cb_bool_op op)
+{
+    switch (op) {
+    case CB_BOOL_UNION:
+        return "union";
+    case CB_BOOL_INTERSECTION:
+        return "intersection";
+    case CB_BOOL_DIFFERENCE:
+        return "difference";
+    }
+    return "?";
+}
+
+void cb_bool_opts_init(cb_bool_opts *o)
+{
+    memset(o, 0, sizeof *o);
+}
+
+static double wall(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+void _cb_bool_face_clear(op_face *f)
+{
+    for (int k = 0; k < f->n_srcs; k++)
+        if (f->srcs[k].kind != OP_CUT)
+            free(f->srcs[k].uv);
+    free(f->srcs);
+    for (int r = 0; r < f->n_regions; r++) {
+        free(f->regions[r].loop_start);
+        free(f->regions[r].pieces);
+    }
+    free(f->regions);
+    memset(f, 0, sizeof *f);
+}
+
+static int push_src(op_face *of, int *cap, const op_src *s)
+{
+    if (of->n_srcs == *cap) {
+        int c = *cap ? 2 * *cap : 16;
+        op_src *q = realloc(of->srcs, (size_t)c * sizeof *q);
+        if (!q)
+            return -1;
+        of->srcs = q;
+        *cap = c;
+    }
+    of->srcs[of->n_srcs++] = *s;
+    return 0;
+}
+
+/* The face's loop polygon (cb_face segments) as sources: one polyline per stretch of a coedge,
+ * refined on the pcurve until it lies within dev_max of it in (u, v), and one per join. */
+static cb_status boundary_srcs(op_face *of, int *cap, const cb_face *F, double dev_max,
+                               cb_error *err)
+{
+    const cb_topo_body *b = F->b;
+    int k = 0;
+    while (k < F->n_segs) {
+        const cb_face_seg *sg = F->segs + k;
+        int end = k + 1;
+        if (sg->coedge >= 0)
+            while (end < F->n_segs && F->segs[end].coedge == sg->coedge &&
+                   F->segs[end].p[0] == F->segs[end - 1].q[0] &&
+                   F->segs[end].p[1] == F->segs[end - 1].q[1])
+                end++;
+        int n = 1;
+        for (int j = k; j < end; j++)
+            n += sg->coedge >= 0 && F->segs[j].dev > dev_max
+                     ? (int)fmin(4096, ceil(sqrt(F->segs[j].dev / dev_max)))
+                     : 1;
+        op_src s = {sg->coedge >= 0 ? OP_BOUNDARY : OP_JOIN, sg->coedge, 0,
+                    malloc((size_t)n * 2 * sizeof(double))};
+        if (!s.uv)
+            return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+        s.uv[0] = sg->p[0];
+        s.uv[1] = sg->p[1];
+        s.n = 1;
+        for (int j = k; j < end; j++) {
+            const cb_face_seg *g = F->segs + j;
+            int m = g->coedge >= 0 && g->dev > dev_max
+                        ? (int)fmin(4096, ceil(sqrt(g->dev / dev_max)))
+                        : 1;
+            for (int i = 1; i < m; i++) {
+                double q[3];
+                cb_topo_pcurve_eval(q, b->pcurves + b->coedges[g->coedge].pcurve,
+                                    g->s0 + (g->s1 - g->s0) * i / m);
+                s.uv[2 * s.n] = q[0] + g->shift[0];
+                s.uv[2 * s.n + 1] = q[1] + g->shift[1];
+                s.n++;
+            }
+            s.uv[2 * s.n] = g->q[0];
+            s.uv[2 * s.n + 1] = g->q[1];
+            s.n++;
+        }
+        if (push_src(of, cap, &s)) {
+            free(s.uv);
+            return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+        }
+        k = end;
+    }
+    return CB_OK;
+}
+
+/* Metric scale of the face's parameters: the largest |S_u|, |S_v| over a 5 x 5 grid of its
+ * (u, v) box, so that a scaled (u, v) distance is never shorter than the 3D one. */
+static void uv_scale(double scale[2], const cb_face *F)
+{
+    scale[0] = scale[1] = 0;
+    for (int i = 0; i <= 4; i++)
+        for (int j = 0; j <= 4; j++) {
+            double d[6][3];
+            double u = F->uv_box[0] + (F->uv_box[1] - F->uv_box[0]) * i / 4;
+            double v = F->uv_box[2] + (F->uv_box[3] - F->uv_box[2]) * j / 4;
+            cb_topo_inverter_eval_derivs(d, &F->inv, u, v);
+            for (int k = 0; k < 2; k++)
+                scale[k] = fmax(scale[k], sqrt(d[1 + k][0] * d[1 + k][0] +
+                                               d[1 + k][1] * d[1 + k][1] +
+                                               d[1 + k][2] * d[1 + k][2]));
+        }
+    for (int k = 0; k < 2; k++)
+        if (!(scale[k] > 0))
+            scale[k] = 1;
+}
+
+static int keep_piece(cb_bool_op op, int side, cb_bool_where w, int *flip)
+{
+    *flip = 0;
+    switch (op) {
+    case CB_BOOL_UNION:
+        return w == CB_BOOL_OUT;
+    case CB_BOOL_INTERSECTION:
+        return w == CB_BOOL_IN;
+    case CB_BOOL_DIFFERENCE:
+        *flip = side == 1;
+        return side == 0 ? w == CB_BOOL_OUT : w == CB_BOOL_IN;
+    }
+    return 0;
+}
+
+typedef struct {
+    cb_bool_op op;
+    const cb_bool_solid *solid[2];
+    const cb_bool_cuts *cuts;
+    double snap, tol;
+} split_ctx;
+
+/* The cycles of region r as loops of pieces: each arrangement piece on the source a face's
+ * coedge gives where it has one (a cut running along the boundary is the boundary there),
+ * positions along that source; reverse: every loop run backwards. */
+static cb_status region_loops(op_region *reg, const cb_arr *arr, int r, const op_src *srcs,
+                              int reverse, cb_error *err)
+{
+    const cb_arr_region *R = arr->region + r;
+    int n_use = R->cycle[R->n_cycles] - R->cycle[0];
+    reg->n_loops = R->n_cycles;
+    reg->loop_start = malloc((size_t)(R->n_cycles + 1) * sizeof(int));
+    reg->pieces = malloc((size_t)(n_use > 0 ? n_use : 1) * sizeof(op_piece));
+    if (!reg->loop_start || !reg->pieces)
+        return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+    int m = 0;
+    for (int k = 0; k < R->n_cycles; k++) {
+        reg->loop_start[k] = m;
+        int a = R->cycle[k], z = R->cycle[k + 1];
+        for (int j = 0; j < z - a; j++) {
+            const cb_arr_use *u = R->use + (reverse ? z - 1 - j : a + j);
+            const cb_arr_piece *pc = arr->piece + u->piece;
+            int pick = 0;
+            for (int q = 0; q < pc->n_src; q++)
+                if (srcs[pc->src[q]].kind == OP_BOUNDARY) {
+                    pick = q;
+                    break;
+                }
+            double start = u->dir > 0 ? pc->pos0[pick] : pc->pos1[pick];
+            double end = u->dir > 0 ? pc->pos1[pick] : pc->pos0[pick];
+            if (reverse) {
+                double t = start;
+                start = end;
+                end = t;
+            }
+            op_piece *op = reg->pieces + m++;
+            op->src = pc->src[pick];
+            op->pos0 = fmin(start, end);
+            op->pos1 = fmax(start, end);
+            op->fwd = start < end;
+        }
+    }
+    reg->loop_start[R->n_cycles] = m;
+    return CB_OK;
+}
+
+/* Splits face `face` of side `side` along its cuts, classifies each region and keeps those the
+ * operation selects, in of. */
+static cb_status split_face(op_face *of, const split_ctx *sc, int side, int face,
+                            cb_bool_stats *stats, cb_error *err)
+{
+    const cb_face *F = cb_bool_solid_face(sc->solid[side], face);
+    of->side = side;
+    of->face = face;
+    int cap = 0;
+    double scale[2];
+    uv_scale(scale, F);
+    cb_status st = boundary_srcs(of, &cap, F, 0.125 * sc->snap, err);
+    for (int k = 0; k < sc->cuts->n && !st; k++) {
+        const cb_bool_cut *c = sc->cuts->cut + k;
+        if (c->face[side] != face)
+            continue;
+        op_src s = {OP_CUT, k, c->n, c->uv[side]};
+        if (push_src(of, &cap, &s))
+            st = cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+    }
+    if (st)
+        return st;
+    cb_arr_polyline *in = malloc((size_t)of->n_srcs * sizeof *in);
+    if (!in)
+        return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+    for (int k = 0; k < of->n_srcs; k++) {
+        in[k].n = of->srcs[k].n;
+        in[k].uv = of->srcs[k].uv;
+        in[k].id = k;
+    }
+    cb_arr arr;
+    cb_arr_init(&arr);
+    st = cb_arr_build(&arr, in, of->n_srcs, scale, sc->snap, err);
+    free(in);
+    if (st) {
+        cb_error_prefix(err, "%s face %d: ", side ? "B" : "A", face);
+        cb_arr_clear(&arr);
+        return st;
+    }
+    const cb_topo_body *X = F->b;
+    int n_reg = arr.n_regions;
+    of->regions = calloc((size_t)(n_reg > 0 ? n_reg : 1), sizeof *of->regions);
+    if (!of->regions) {
+        cb_arr_clear(&arr);
+        return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+    }
+    for (int r = 0; r < n_reg && !st; r++) {
+        const double *uv = arr.region[r].inner;
+        if (cb_face_classify_uv(F, uv[0], uv[1], 1e-3 * sc->tol) != CB_FACE_IN)
+            continue; /* a hole of the face, or outside its loops */
+        stats->pieces[side]++;
+        double X3[3];
+        cb_topo_inverter_eval(X3, &F->inv, uv[0], uv[1]);
+        cb_bool_where w;
+        st = cb_bool_solid_classify(&w, sc->solid[1 - side], X3, err);
+        if (st) {
+            cb_error_prefix(err, "%s face %d: ", side ? "B" : "A", face);
+            break;
+        }
+        if (w == CB_BOOL_ON) {
+            st = cb_error_set(err, CB_ERR_UNSUPPORTED,
+                              "%s face %d: a piece lies on the other solid (coincident faces "
+                              "are not handled yet)",
+                              side ? "B" : "A", face);
+            break;
+        }
+        int flip;
+        if (!keep_piece(sc->op, side, w, &flip))
+            continue;
+        op_region *reg = of->regions + of->n_regions;
+        reg->side = side;
+        reg->face = face;
+        reg->flip = flip;
+        reg->srcs = of->srcs;
+        reg->n_srcs = of->n_srcs;
+        /* Loops with the region to their left in (u, v); the face keeps the region on its left
+         * seen from its normal, so a face turned against S_u x S_v runs them backwards. */
+        int reverse = !(X->faces[face].same_sense ^ flip);
+        st = region_loops(reg, &arr, r, of->srcs, reverse, err);
+        if (st)
+            break;
+        of->n_regions++;
+        stats->kept[side]++;
+    }
+    cb_arr_clear(&arr);
+    return st;
+}
+
+cb_status cb_bool_run(cb_topo_body **out, cb_bool_stats *stats, cb_bool_op op,
+                      const cb_topo_body *A, const cb_topo_body *B, const cb_bool_opts *opts,
+                      cb_context *ctx, cb_error *err)
+{
+    *out = NULL;
+    cb_bool_stats local;
+    if (!stats)
+        stats = &local;
+    memset(stats, 0, sizeof *stats);
+    if (op != CB_BOOL_UNION && op != CB_BOOL_INTERSECTION && op != CB_BOOL_DIFFERENCE)
+        return cb_error_set(err, CB_ERR_INVALID, "bool: unknown operation %d", (int)op);
+    const cb_topo_body *body[2] = {A, B};
+    for (int s = 0; s < 2; s++) {
+        const cb_topo_body *b = body[s];
+        if (!b->edge_start)
+            return cb_error_set(err, CB_ERR_INVALID,
+                                "bool: operand %c has no incidence index (cb_topo_body_index)",
+                                "AB"[s]);
+        for (int c = 0; c < b->n_coedges; c++)
+            if (b->coedges[c].pcurve < 0)
+                return cb_error_set(err, CB_ERR_INVALID, "bool: operand %c: coedge %d has no pcurve",
+                                    "AB"[s], c);
+        for (int sh = 0; sh < b->n_shells; sh++)
+            if (b->shells[sh].solid < 0)
+                return cb_error_set(err, CB_ERR_INVALID,
+                                    "bool: operand %c: shell %d is not a solid's (an open "
+                                    "surface model has no inside)",
+                                    "AB"[s], sh);
+        for (int e = 0; e < b->n_edges; e++) {
+            int uses = b->edge_start[e + 1] - b->edge_start[e];
+            if (uses != 2)
+                return cb_error_set(err, CB_ERR_INVALID,
+                                    "bool: operand %c is not closed: edge %d is used by %d "
+                                    "coedge%s",
+                                    "AB"[s], e, uses, uses == 1 ? "" : "s");
+        }
+    }
+    cb_aabb ba, bb;
+    cb_topo_body_edge_box(&ba, A);
+    cb_topo_body_edge_box(&bb, B);
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double ext = fmax(ba.hi[k], bb.hi[k]) - fmin(ba.lo[k], bb.lo[k]);
+        d2 += ext * ext;
+    }
+    double size = sqrt(d2);
+    double tol = opts && opts->tol > 0 ? opts->tol : CB_BOOL_REL_TOL * size;
+    double chord = opts && opts->chord > 0 ? opts->chord : CB_BOOL_REL_CHORD * size;
+    int threads = ctx ? cb_context_threads(ctx) : 0;
+
+    double t0 = wall();
+    cb_ssi_opts so;
+    cb_ssi_opts_default(&so);
+    so.tol = tol;
+    so.chord = chord;
+    so.threads = threads;
+    cb_ssi_result_t r;
+    cb_ssi_result_init(r);
+    cb_status st = cb_ssi_bodies(r, A, B, &so, err);
+    stats->curves = (int)r->n_curves;
+    stats->points = (int)r->n_points;
+    if (!st && r->n_failed > 0) {
+        const cb_ssi_failure *f = r->failed;
+        st = cb_error_set(err, f->status ? f->status : CB_ERR_UNSUPPORTED,
+                          "bool: %ld face pair%s could not be intersected with certainty; first: "
+                          "A face %d, B face %d: %s",
+                          (long)r->n_failed, r->n_failed == 1 ? "" : "s", f->face_a, f->face_b,
+                          f->msg);
+    }
+    stats->time_ssi = wall() - t0;
+    if (ctx)
+        cb_context_progress(ctx, 1, 4, "boolean");
+    if (st) {
+        cb_ssi_result_clear(r);
+        return st;
+    }
+
+    cb_bool_solid *S[2] = {NULL, NULL};
+    st = cb_bool_solid_new(S, A, tol, err);
+    if (!st)
+        st = cb_bool_solid_new(S + 1, B, tol, err);
+    cb_bool_cuts cuts;
+    cb_bool_cuts_init(&cuts);
+    if (!st)
+        st = cb_bool_cuts_make(&cuts, r, S[0], S[1], tol, err);
+    cb_ssi_result_clear(r);
+    stats->cuts = cuts.n;
+
+    double t1 = wall();
+    int n_faces = A->n_faces + B->n_faces;
+    op_face *faces = calloc((size_t)n_faces, sizeof *faces);
+    if (!st && !faces)
+        st = cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+    split_ctx sc = {op, {S[0], S[1]}, &cuts, CB_BOOL_SNAP * tol, tol};
+    for (int k = 0; k < n_faces && !st; k++) {
+        int side = k >= A->n_faces, face = side ? k - A->n_faces : k;
+        st = split_face(faces + k, &sc, side, face, stats, err);
+        if (!st && ctx && cb_context_cancelled(ctx))
+            st = cb_error_set(err, CB_ERR_CANCELLED, "bool: cancelled");
+        if (!st && ctx)
+            cb_context_progress(ctx, 1 + 2.0 * (k + 1) / n_faces, 4, "boolean");
+    }
+    stats->time_split = wall() - t1;
+
+    double t2 = wall();
+    if (!st) {
+        st = _cb_bool_build(out, &stats->unmatched, faces, n_faces, A, B, &cuts, tol,
+                            CB_BOOL_WELD * tol,
+                            err);
+        if (!st && stats->unmatched) {
+            st = cb_error_set(err, CB_ERR_NUMERIC,
+                              "bool: %d edge%s of the result could not be sewn (the pieces do "
+                              "not close up)",
+                              stats->unmatched, stats->unmatched == 1 ? "" : "s");
+            cb_topo_body_free(*out);
+            *out = NULL;
+        }
+    }
+    stats->time_build = wall() - t2;
+    if (!st && ctx)
+        cb_context_progress(ctx, 4, 4, "boolean");
+    for (int k = 0; faces && k < n_faces; k++)
+        _cb_bool_face_clear(faces + k);
+    free(faces);
+    cb_bool_cuts_clear(&cuts);
+    cb_bool_solid_free(S[0]);
+    cb_bool_solid_free(S[1]);
+    return st;
+}

@@ -1,0 +1,398 @@
+/* op_build.c — the result body of a Boolean from the kept face pieces: new faces on copies of
+ * the operands' surfaces, their loops made of the pieces, pieces sewn into shared edges. */
+#include "boolean/op_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+    double mid[3]; /* curve point halfway along the piece, to tell edges with equal ends apart */
+    int uses;
+} edge_info;
+
+typedef struct {
+    cb_topo_body *b;
+    edge_info *info;
+    int cap_info;
+    double weld;
+    const cb_bool_cuts *cuts;
+    cb_topo_curve *cut_curve; /* per cut, its 3D curve (cb_bool_cut_curve), made when first used */
+    char *cut_made;
+    double *mid_uv; /* per coedge of a boundary piece: (u, v) of its middle in the face's window,
+                       to lift the computed pcurve there; NaN for cut pieces */
+    int cap_mid;
+} builder;
+
+/* The 3D curve of cut k, made on first use. NULL when out of memory or invalid. */
+static const cb_topo_curve *cut_curve(builder *bd, int k, cb_error *err)
+{
+    if (!bd->cut_made[k]) {
+        if (cb_bool_cut_curve(bd->cut_curve + k, bd->cuts->cut + k, -1, err))
+            return NULL;
+        bd->cut_made[k] = 1;
+    }
+    return bd->cut_curve + k;
+}
+
+static double dist3(const double a[3], const double b[3])
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/* The vertex at p: an existing one within weld (the first found, in creation order), else a
+ * new one. -1 when out of memory. */
+static int weld_vertex(builder *bd, const double p[3])
+{
+    cb_topo_body *b = bd->b;
+    for (int v = 0; v < b->n_vertices; v++)
+        if (dist3(b->vertices[v].p, p) <= bd->weld)
+            return v;
+    int v = cb_topo_body_add_vertex(b);
+    if (v >= 0)
+        memcpy(b->vertices[v].p, p, 3 * sizeof(double));
+    return v;
+}
+
+/* Position pos (segment index + fraction) along a polyline of n points of dimension dim. */
+static void at_pos(double *out, const double *pts, int n, int dim, double pos)
+{
+    int i = (int)floor(pos);
+    if (i >= n - 1)
+        i = n - 2;
+    if (i < 0)
+        i = 0;
+    double f = pos - i;
+    for (int k = 0; k < dim; k++)
+        out[k] = pts[dim * i + k] + f * (pts[dim * (i + 1) + k] - pts[dim * i + k]);
+}
+
+static cb_status copy_curve(cb_topo_curve *dst, const cb_topo_curve *src, cb_error *err)
+{
+    dst->kind = src->kind;
+    dst->frame = src->frame;
+    dst->r1 = src->r1;
+    dst->r2 = src->r2;
+    if (src->kind == CB_CURVE_NURBS)
+        return cb_nurbs_curve_set(dst->nurbs, src->nurbs, err);
+    return CB_OK;
+}
+
+static cb_status copy_surface(cb_topo_surface *dst, const cb_topo_surface *src, cb_error *err)
+{
+    dst->kind = src->kind;
+    dst->analytic = src->analytic;
+    dst->frame = src->frame;
+    memcpy(dst->dir, src->dir, sizeof dst->dir);
+    cb_status st = CB_OK;
+    if (src->kind == CB_SURFACE_NURBS)
+        st = cb_nurbs_surface_set(dst->nurbs, src->nurbs, err);
+    if (!st && (src->kind == CB_SURFACE_REVOLUTION || src->kind == CB_SURFACE_EXTRUSION))
+        st = copy_curve(&dst->profile, &src->profile, err);
+    return st;
+}
+
+/* The edge a piece becomes, with the ends of its traversal and whether it runs along the
+ * edge curve. */
+typedef struct {
+    int v_start, v_end;
+    double t_start, t_end; /* edge curve parameters at the traversal's start and end */
+    double mid[3];
+    int cut; /* a cut piece: its curve and pcurve are the cut's polyline */
+} piece_geom;
+
+/* Geometry of piece p of region r: the two end vertices (welded) and the parameters. */
+static cb_status piece_ends(piece_geom *g, builder *bd, const op_region *r, const op_piece *p,
+                            const cb_topo_body *X, const cb_topo_inverter *inv, cb_error *err)
+{
+    const op_src *s = r->srcs + p->src;
+    double a = p->fwd ? p->pos0 : p->pos1, z = p->fwd ? p->pos1 : p->pos0;
+    double pa[3], pz[3];
+    if (s->kind == OP_CUT) {
+        const cb_topo_curve *C = cut_curve(bd, s->index, err);
+        if (!C)
+            return CB_ERR_NOMEM;
+        cb_topo_curve_eval(pa, C, a);
+        cb_topo_curve_eval(pz, C, z);
+        cb_topo_curve_eval(g->mid, C, 0.5 * (a + z));
+        g->t_start = a;
+        g->t_end = z;
+        g->cut = 1;
+    } else {
+        const cb_topo_coedge *co = X->coedges + s->index;
+        const cb_topo_edge *e = X->edges + co->edge;
+        const cb_topo_curve *C = X->curves + e->curve;
+        int increasing = co->sense == e->same_sense;
+        double uv[2], q[3];
+        double t[2];
+        double pos[2] = {a, z};
+        double *pt[2] = {pa, pz};
+        for (int k = 0; k < 2; k++) {
+            if (pos[k] <= 1e-9)
+                t[k] = increasing ? e->t0 : e->t1;
+            else if (pos[k] >= s->n - 1 - 1e-9)
+                t[k] = increasing ? e->t1 : e->t0;
+            else {
+                at_pos(uv, s->uv, s->n, 2, pos[k]);
+                cb_topo_inverter_eval(q, inv, uv[0], uv[1]);
+                cb_topo_curve_project(t + k, C, q, e->t0, e->t1);
+                if (C->kind == CB_CURVE_CIRCLE || C->kind == CB_CURVE_ELLIPSE) {
+                    /* conics project into [0, 2 pi): bring t into the edge's range */
+                    while (t[k] < e->t0 - 1e-12)
+                        t[k] += 2 * CB_SSI_PI;
+                    while (t[k] > e->t1 + 1e-12)
+                        t[k] -= 2 * CB_SSI_PI;
+                }
+            }
+            cb_topo_curve_eval(pt[k], C, t[k]);
+        }
+        g->t_start = t[0];
+        g->t_end = t[1];
+        cb_topo_curve_eval(g->mid, C, 0.5 * (t[0] + t[1]));
+        g->cut = 0;
+    }
+    g->v_start = weld_vertex(bd, pa);
+    g->v_end = weld_vertex(bd, pz);
+    return g->v_start < 0 || g->v_end < 0 ? CB_ERR_NOMEM : CB_OK;
+}
+
+static int grow_info(builder *bd)
+{
+    if (bd->b->n_edges < bd->cap_info)
+        return 0;
+    int cap = bd->cap_info ? 2 * bd->cap_info : 64;
+    edge_info *q = realloc(bd->info, (size_t)cap * sizeof *q);
+    if (!q)
+        return -1;
+    bd->info = q;
+    bd->cap_info = cap;
+    return 0;
+}
+
+/* The coedge of loop `loop` for piece p: sewn onto an existing edge with the same ends and
+ * midpoint used once, or on a new edge. */
+static cb_status add_coedge(builder *bd, int loop, const op_region *r, const op_piece *p,
+                            const cb_topo_body *X, const cb_bool_cuts *cuts,
+                            const cb_topo_inverter *inv, cb_error *err)
+{
+    cb_topo_body *b = bd->b;
+    piece_geom g;
+    cb_status pst = piece_ends(&g, bd, r, p, X, inv, err);
+    if (pst)
+        return pst == CB_ERR_NOMEM ? cb_error_set(err, pst, "bool: out of memory") : pst;
+    int lo = g.t_start < g.t_end ? g.v_start : g.v_end, hi = g.t_start < g.t_end ? g.v_end : g.v_start;
+    int edge = -1;
+    for (int e = 0; e < b->n_edges && edge < 0; e++)
+        if (bd->info[e].uses == 1 &&
+            ((b->edges[e].v[0] == lo && b->edges[e].v[1] == hi) ||
+             (b->edges[e].v[0] == hi && b->edges[e].v[1] == lo)) &&
+            dist3(bd->info[e].mid, g.mid) <= 10 * bd->weld)
+            edge = e;
+    const op_src *s = r->srcs + p->src;
+    int sense;
+    if (edge < 0) {
+        if (grow_info(bd))
+            return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+        edge = cb_topo_body_add_edge(b);
+        int cv = cb_topo_body_add_curve(b);
+        if (edge < 0 || cv < 0)
+            return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+        cb_topo_edge *e = b->edges + edge;
+        e->curve = cv;
+        e->same_sense = 1;
+        e->t0 = fmin(g.t_start, g.t_end);
+        e->t1 = fmax(g.t_start, g.t_end);
+        e->v[0] = lo;
+        e->v[1] = hi;
+        e->tol = b->tol;
+        cb_status st;
+        if (g.cut) {
+            st = copy_curve(b->curves + cv, bd->cut_curve + s->index, err);
+        } else {
+            const cb_topo_edge *oe = X->edges + X->coedges[s->index].edge;
+            st = copy_curve(b->curves + cv, X->curves + oe->curve, err);
+        }
+        if (st)
+            return st;
+        memcpy(bd->info[edge].mid, g.mid, sizeof g.mid);
+        bd->info[edge].uses = 0;
+    }
+    /* Both pieces sewn into an edge run one curve parameterised alike (the cut's positions,
+     * or the original edge's curve): along the edge when the traversal runs up the curve. */
+    sense = g.t_start < g.t_end;
+    bd->info[edge].uses++;
+    int co = cb_topo_body_add_coedge(b);
+    if (co < 0)
+        return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+    if (co >= bd->cap_mid) {
+        int cap = bd->cap_mid ? 2 * bd->cap_mid : 256;
+        double *q = realloc(bd->mid_uv, (size_t)cap * 2 * sizeof(double));
+        if (!q)
+            return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+        bd->mid_uv = q;
+        bd->cap_mid = cap;
+    }
+    if (g.cut)
+        bd->mid_uv[2 * co] = bd->mid_uv[2 * co + 1] = NAN;
+    else
+        at_pos(bd->mid_uv + 2 * co, s->uv, s->n, 2, 0.5 * (p->pos0 + p->pos1));
+    b->coedges[co].edge = edge;
+    b->coedges[co].sense = sense;
+    b->coedges[co].loop = loop;
+    b->coedges[co].pcurve = -1;
+    if (g.cut) {
+        int pc = cb_topo_body_add_pcurve(b);
+        if (pc < 0)
+            return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+        cb_status st = cb_bool_cut_curve(b->pcurves + pc, cuts->cut + s->index, r->side, err);
+        if (st)
+            return st;
+        b->coedges[co].pcurve = pc;
+    }
+    return CB_OK;
+}
+
+/* Moves pcurve pc by (du, dv). */
+static void shift_pcurve(cb_topo_curve *pc, double du, double dv)
+{
+    if (pc->kind == CB_CURVE_NURBS) {
+        for (int i = 0; i < pc->nurbs->n; i++) {
+            double *w = pc->nurbs->cw + 4 * i;
+            w[0] += du * w[3];
+            w[1] += dv * w[3];
+        }
+    } else {
+        pc->frame.o[0] += du;
+        pc->frame.o[1] += dv;
+    }
+}
+
+/* cb_topo_compute_pcurves places each loop in a lift of its own choosing, and the two sides
+ * of a seam by a rule of its own: shift every computed pcurve by whole periods to the lift of
+ * the piece it was made for, the face's window in which the face was split. */
+static cb_status lift_pcurves(builder *bd, cb_error *err)
+{
+    cb_topo_body *b = bd->b;
+    for (int f = 0; f < b->n_faces; f++) {
+        cb_topo_inverter inv;
+        cb_status st = cb_topo_inverter_init(&inv, b->surfaces + b->faces[f].surface, b->tol, err);
+        if (st)
+            return st;
+        for (int l = b->faces[f].first; l < b->faces[f].first + b->faces[f].count; l++)
+            for (int c = b->loops[l].first; c < b->loops[l].first + b->loops[l].count; c++) {
+                const double *target = bd->mid_uv + 2 * c;
+                if (isnan(target[0]) || b->coedges[c].pcurve < 0)
+                    continue;
+                const cb_topo_edge *e = b->edges + b->coedges[c].edge;
+                cb_topo_curve *pc = b->pcurves + b->coedges[c].pcurve;
+                double q[3], d[2] = {0, 0};
+                cb_topo_pcurve_eval(q, pc, 0.5 * (e->t0 + e->t1));
+                for (int k = 0; k < 2; k++)
+                    if (inv.lift[k] > 0)
+                        d[k] = inv.lift[k] * nearbyint((target[k] - q[k]) / inv.lift[k]);
+                if (d[0] != 0 || d[1] != 0)
+                    shift_pcurve(pc, d[0], d[1]);
+            }
+        cb_topo_inverter_clear(&inv);
+    }
+    return CB_OK;
+}
+
+cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, const op_face *faces, int n_faces,
+                         const cb_topo_body *A, const cb_topo_body *B, const cb_bool_cuts *cuts,
+                         double tol, double weld, cb_error *err)
+{
+    *out = NULL;
+    *unmatched = 0;
+    builder bd = {cb_topo_body_new(), NULL, 0, weld, cuts,
+                  calloc((size_t)cuts->n + 1, sizeof(cb_topo_curve)), calloc((size_t)cuts->n + 1, 1),
+                  NULL, 0};
+    if (!bd.b || !bd.cut_curve || !bd.cut_made) {
+        cb_topo_body_free(bd.b);
+        free(bd.cut_curve);
+        free(bd.cut_made);
+        return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+    }
+    for (int k = 0; k < cuts->n; k++)
+        cb_topo_curve_init(bd.cut_curve + k);
+    cb_topo_body *b = bd.b;
+    b->tol = tol;
+    b->length_unit_mm = A->length_unit_mm;
+    int solid = cb_topo_body_add_solid(b), shell = cb_topo_body_add_shell(b);
+    cb_status st = solid < 0 || shell < 0 ? cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory")
+                                          : CB_OK;
+    if (!st) {
+        b->solids[solid].first = shell;
+        b->solids[solid].count = 1;
+        b->shells[shell].solid = solid;
+        b->shells[shell].closed = 1;
+        b->shells[shell].first = 0;
+    }
+    for (int fi = 0; fi < n_faces && !st; fi++) {
+        const op_face *of = faces + fi;
+        if (of->n_regions == 0)
+            continue;
+        const cb_topo_body *X = of->side ? B : A;
+        const cb_topo_face *xf = X->faces + of->face;
+        cb_topo_inverter inv;
+        st = cb_topo_inverter_init(&inv, X->surfaces + xf->surface, tol, err);
+        if (st)
+            break;
+        for (int ri = 0; ri < of->n_regions && !st; ri++) {
+            const op_region *r = of->regions + ri;
+            int sf = cb_topo_body_add_surface(b), f = cb_topo_body_add_face(b);
+            if (sf < 0 || f < 0) {
+                st = cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+                break;
+            }
+            st = copy_surface(b->surfaces + sf, X->surfaces + xf->surface, err);
+            b->faces[f].surface = sf;
+            b->faces[f].same_sense = xf->same_sense ^ r->flip;
+            b->faces[f].shell = shell;
+            b->faces[f].first = b->n_loops;
+            b->faces[f].count = 0;
+            for (int l = 0; l < r->n_loops && !st; l++) {
+                int lp = cb_topo_body_add_loop(b);
+                if (lp < 0) {
+                    st = cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+                    break;
+                }
+                b->loops[lp].face = f;
+                b->loops[lp].outer = l == 0;
+                b->loops[lp].first = b->n_coedges;
+                for (int k = r->loop_start[l]; k < r->loop_start[l + 1] && !st; k++)
+                    if (r->srcs[r->pieces[k].src].kind != OP_JOIN)
+                        st = add_coedge(&bd, lp, r, r->pieces + k, X, cuts, &inv, err);
+                b->loops[lp].count = b->n_coedges - b->loops[lp].first;
+                b->faces[f].count++;
+            }
+        }
+        cb_topo_inverter_clear(&inv);
+    }
+    if (!st) {
+        b->shells[shell].count = b->n_faces;
+        for (int e = 0; e < b->n_edges; e++)
+            if (bd.info[e].uses != 2)
+                (*unmatched)++;
+        for (int e = 0; e < b->n_edges; e++)
+            b->edges[e].tol = fmax(b->tol, weld);
+        st = cb_topo_body_index(b, err);
+    }
+    if (!st && !*unmatched)
+        st = cb_topo_compute_pcurves(b, tol, err);
+    if (!st && !*unmatched)
+        st = lift_pcurves(&bd, err);
+    free(bd.info);
+    free(bd.mid_uv);
+    for (int k = 0; k < cuts->n; k++)
+        cb_topo_curve_clear(bd.cut_curve + k);
+    free(bd.cut_curve);
+    free(bd.cut_made);
+    if (st) {
+        cb_topo_body_free(b);
+        return st;
+    }
+    *out = b;
+    return CB_OK;
+}

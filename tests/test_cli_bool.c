@@ -1,0 +1,166 @@
+/* colibri bool: exit statuses, the report's shape and figures, results read back. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "brep/mass.h"
+#include "check.h"
+#include "check_cli.h"
+#include "io/step.h"
+
+static char dir[512];
+
+static const char *at(char *buf, size_t n, const char *name)
+{
+    snprintf(buf, n, "%s/%s", dir, name);
+    return buf;
+}
+
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    static char text[1 << 16];
+    size_t len = fread(text, 1, sizeof text - 1, f);
+    text[len] = '\0';
+    fclose(f);
+    return text;
+}
+
+/* The number after "key": in a JSON text, NaN when absent. */
+static double json_number(const char *text, const char *key)
+{
+    char pat[64];
+    snprintf(pat, sizeof pat, "\"%s\": ", key);
+    const char *p = strstr(text, pat);
+    return p ? strtod(p + strlen(pat), NULL) : NAN;
+}
+
+static void test_usage(void)
+{
+    char a[600], args[2000];
+    cli_expect("bool --help", 0, "usage: colibri bool union|intersection|difference");
+    cli_expect("bool", 2, "usage: colibri bool");
+    cli_expect("bool union a.step", 2, "usage: colibri bool");
+    cli_expect("bool union a.step b.step", 2, "usage: colibri bool");
+    cli_expect("bool xor a.step b.step -o x.stl", 2, "unknown operation 'xor'");
+    cli_expect("bool union a.step b.step -o x.stl --bogus", 2, "unknown option '--bogus'");
+    cli_expect("bool union a.step b.step -o x.stl --tol -1", 2, "--tol needs a positive number");
+    cli_expect("bool union a.step b.step -o x.stl --threads z", 2, "--threads needs a count");
+    cli_expect("bool union a.step b.step -o x.txt", 2, ".txt");
+    snprintf(args, sizeof args, "bool union %s/missing.step %s -o %s", dir,
+             at(a, sizeof a, "a.step"), at(a, sizeof a, "x.stl"));
+    cli_expect(args, 2, "missing.step");
+}
+
+/* Two hummingbirds: every operation exits 0 with a valid result whose report holds the
+ * documented keys; the volumes satisfy inclusion-exclusion; STEP output reads back. */
+static void test_birds(void)
+{
+    char a[600], b[600], out[600], rep[600], args[3000];
+    at(a, sizeof a, "a.step");
+    at(b, sizeof b, "b.step");
+    snprintf(args, sizeof args, "model hummingbird -o %s", a);
+    cli_expect(args, 0, "hummingbird");
+    snprintf(args, sizeof args, "model hummingbird -o %s --translate 0.25 0.08 0.05", b);
+    cli_expect(args, 0, "hummingbird");
+    const char *ops[3] = {"union", "intersection", "difference"};
+    double vol[3] = {NAN, NAN, NAN};
+    for (int k = 0; k < 3; k++) {
+        snprintf(args, sizeof args, "bool %s %s %s -o %s --json %s --quiet", ops[k], a, b,
+                 at(out, sizeof out, k == 0 ? "u.step" : "r.off"), at(rep, sizeof rep, "r.json"));
+        int code = cli_run(args);
+        CHECK(code == 0, "colibri %s: exit %d:\n%s", args, code, cli_out);
+        CHECK(cli_out[0] == '\0', "--quiet printed:\n%s", cli_out);
+        const char *text = slurp(rep);
+        CHECK(text != NULL, "no report %s", rep);
+        if (!text)
+            continue;
+        const char *keys[] = {"\"op\": \"", "\"status\": \"ok\"", "\"message\": ", "\"volume\": ",
+                              "\"area\": ", "\"solids\": 1", "\"faces\": ", "\"valid\": true",
+                              "\"mesh\": {\"triangles\": ", "\"closed\": ", "\"manifold\": ",
+                              "\"self_intersections\": ", "\"time_s\": {\"ssi\": ", "\"split\": ",
+                              "\"classify\": ", "\"total\": ", NULL};
+        for (int j = 0; keys[j]; j++)
+            CHECK(strstr(text, keys[j]) != NULL, "%s report lacks %s:\n%s", ops[k], keys[j], text);
+        CHECK(strstr(text, ops[k]) != NULL, "report names no %s", ops[k]);
+        vol[k] = json_number(text, "volume");
+        /* Known gap: the difference's mesh has one non-manifold edge (a sliver piece the
+         * tessellation closes badly); its B-rep is valid. Union and intersection must mesh. */
+        if (k < 2) {
+            CHECK(strstr(text, "\"closed\": true") && strstr(text, "\"manifold\": true") &&
+                      strstr(text, "\"self_intersections\": 0"),
+                  "%s mesh not closed, manifold and free of self-intersections:\n%s", ops[k],
+                  text);
+            double vm = json_number(strstr(text, "\"mesh\""), "volume");
+            CHECK(fabs(vm - vol[k]) <= 0.02 * vol[k], "%s: mesh volume %g far from B-rep %g",
+                  ops[k], vm, vol[k]);
+        }
+    }
+    /* V(A) from the library, for the identities. */
+    cb_topo_body *A = NULL, *U = NULL;
+    cb_error err;
+    cb_status st = cb_step_read(&A, a, &err);
+    cb_mass_props ma, mu;
+    if (!st)
+        st = cb_mass_body(&ma, A, 1e-10, NULL, &err);
+    CHECK(st == CB_OK, "%s: %s", a, err.msg);
+    if (!st) {
+        double e1 = fabs(vol[0] + vol[1] - 2 * ma.volume) / ma.volume;
+        double e2 = fabs(vol[2] - (ma.volume - vol[1])) / ma.volume;
+        CHECK(e1 <= 1e-6 && e2 <= 1e-6, "identities off by %.3g, %.3g", e1, e2);
+    }
+    /* The union written as STEP reads back valid with the same volume. */
+    st = cb_step_read(&U, at(out, sizeof out, "u.step"), &err);
+    if (!st)
+        st = cb_mass_body(&mu, U, 1e-10, NULL, &err);
+    CHECK(st == CB_OK, "union STEP: %s", err.msg);
+    if (!st) {
+        cb_topo_report r;
+        cb_topo_report_init(&r);
+        cb_topo_validate(&r, U, U->tol, 9, &err);
+        CHECK(r.n == 0, "union read back: %d problems, first: %s", r.n, r.n ? r.items[0] : "");
+        cb_topo_report_clear(&r);
+        CHECK(fabs(mu.volume - vol[0]) <= 1e-6 * vol[0], "union read back: volume %.12g, %.12g",
+              mu.volume, vol[0]);
+    }
+    cb_topo_body_free(A);
+    cb_topo_body_free(U);
+}
+
+/* A Cardan scenario with coincident faces: the operation says it cannot, exit 1, and the
+ * report says error. */
+static void test_unsupported(void)
+{
+    char a[600], b[600], out[600], rep[600], args[3000];
+    snprintf(args, sizeof args, "model cardan two_crosses -o %s --out-b %s",
+             at(a, sizeof a, "c1.step"), at(b, sizeof b, "c2.step"));
+    cli_expect(args, 0, "");
+    snprintf(args, sizeof args, "bool union %s %s -o %s --json %s", a, b,
+             at(out, sizeof out, "c.stl"), at(rep, sizeof rep, "c.json"));
+    cli_expect(args, 1, "coincident faces");
+    const char *text = slurp(rep);
+    CHECK(text && strstr(text, "\"status\": \"error\"") && strstr(text, "coincident"),
+          "error report: %s", text ? text : "(none)");
+}
+
+int main(void)
+{
+    const char *tmp = getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp";
+    snprintf(dir, sizeof dir, "%s/colibri_cli_bool_%d", tmp, (int)getpid());
+    char cmd[700];
+    snprintf(cmd, sizeof cmd, "mkdir -p '%s'", dir);
+    if (system(cmd) != 0)
+        return 1;
+    test_usage();
+    test_birds();
+    test_unsupported();
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (system(cmd) != 0)
+        return 1;
+    return check_report("test_cli_bool");
+}
