@@ -154,8 +154,8 @@ static const char *const scenario_contact[N_SCENARIOS] = {
 static const char *const scenario_closed_form[N_SCENARIOS] = {
     "A n B = 0",
     "A n B = 0",
-    "A n B = (r^2 acos((r - d)/r) - (r - d) sqrt(r^2 - (r - d)^2)) (w/2 - y_c + L), d = 1/4, "
-    "y_c = 7/2",
+    ("A n B = (r^2 acos((r - d)/r) - (r - d) sqrt(r^2 - (r - d)^2)) (w/2 - y_c + L), d = 1/4, "
+     "y_c = 7/2"),
     "A n B = pi r^2 (L - (hb - t) / sin 60deg)",
     "A n B = 16 a^3 (sqrt 2 - 1) + 8 (a (sqrt 2 - 1) pi r^2 - 4 r^3 / 3)",
     "A n B = 4 a^2 (2 a - 2 r)"};
