@@ -180,6 +180,8 @@ static void test_cardan(int as_nurbs)
     cb_topo_body_free(B);
 }
 
+static void test_determinism(const cb_topo_body *A, const cb_topo_body *B);
+
 /* Two hummingbirds, the second moved: no closed form, but the volumes must satisfy
  * V(A u B) + V(A n B) = V(A) + V(B) and V(A - B) = V(A) - V(A n B). */
 static void test_birds(void)
@@ -215,9 +217,50 @@ static void test_birds(void)
               e1, e2, ma.volume);
         CHECK(vi > 0.05 * ma.volume && vi < 0.95 * ma.volume,
               "birds overlap by %.3g of a bird's volume", vi / ma.volume);
+        test_determinism(A, B);
     }
     cb_topo_body_free(A);
     cb_topo_body_free(B);
+}
+
+/* Same body, bit for bit: counts, vertices, edge ranges. */
+static int same_body(const cb_topo_body *x, const cb_topo_body *y)
+{
+    if (x->n_faces != y->n_faces || x->n_edges != y->n_edges || x->n_vertices != y->n_vertices ||
+        x->n_coedges != y->n_coedges)
+        return 0;
+    for (int v = 0; v < x->n_vertices; v++)
+        if (memcmp(x->vertices[v].p, y->vertices[v].p, sizeof x->vertices[v].p))
+            return 0;
+    for (int e = 0; e < x->n_edges; e++)
+        if (x->edges[e].t0 != y->edges[e].t0 || x->edges[e].t1 != y->edges[e].t1 ||
+            x->edges[e].v[0] != y->edges[e].v[0] || x->edges[e].v[1] != y->edges[e].v[1])
+            return 0;
+    for (int c = 0; c < x->n_coedges; c++)
+        if (x->coedges[c].edge != y->coedges[c].edge || x->coedges[c].sense != y->coedges[c].sense)
+            return 0;
+    return 1;
+}
+
+/* The union of two birds on 1 and on 2 threads, and twice on 2: the same body bit for bit. */
+static void test_determinism(const cb_topo_body *A, const cb_topo_body *B)
+{
+    cb_topo_body *r[3] = {NULL, NULL, NULL};
+    int threads[3] = {1, 2, 2};
+    for (int k = 0; k < 3; k++) {
+        cb_context ctx;
+        cb_context_init(&ctx);
+        ctx.threads = threads[k];
+        cb_error err;
+        cb_status st = cb_bool_run(r + k, NULL, CB_BOOL_UNION, A, B, NULL, &ctx, &err);
+        CHECK(st == CB_OK, "determinism run %d: %s", k, err.msg);
+    }
+    if (r[0] && r[1] && r[2]) {
+        CHECK(same_body(r[0], r[1]), "union on 1 and 2 threads differs");
+        CHECK(same_body(r[1], r[2]), "union differs between two runs on 2 threads");
+    }
+    for (int k = 0; k < 3; k++)
+        cb_topo_body_free(r[k]);
 }
 
 static void test_bad_operands(void)
