@@ -196,7 +196,7 @@ typedef struct {
 /* The union, intersection or difference A - B of two closed solids as a new body *out (free
  * with cb_topo_body_free). A and B: indexed (cb_topo_body_index), a pcurve on every coedge,
  * every shell a solid's and closed (each edge used by two coedges): CB_ERR_INVALID naming
- * what fails otherwise.
+ * what fails otherwise; both in the same length unit (CB_ERR_UNSUPPORTED otherwise).
  *
  * Method: the intersection curves of every face pair (cb_ssi_bodies; a pair that cannot be
  * certified makes the operation fail with CB_ERR_UNSUPPORTED or the pair's status, naming

@@ -329,6 +329,11 @@ cb_status cb_bool_run(cb_topo_body **out, cb_bool_stats *stats, cb_bool_op op,
                                     "AB"[s], e, uses, uses == 1 ? "" : "s");
         }
     }
+    if (A->length_unit_mm != B->length_unit_mm)
+        return cb_error_set(err, CB_ERR_UNSUPPORTED,
+                            "bool: the operands use different length units (%g mm and %g mm); "
+                            "scale one to the other's first",
+                            A->length_unit_mm, B->length_unit_mm);
     cb_aabb ba, bb;
     cb_topo_body_edge_box(&ba, A);
     cb_topo_body_edge_box(&bb, B);

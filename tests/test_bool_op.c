@@ -294,6 +294,12 @@ static void test_bad_operands(void)
               check_msg_has(err.msg, (const char *const[]){"operand B", "not closed", NULL}),
           "open shell: %d %s", st, err.msg);
     B->coedges[0].edge = e;
+    cb_topo_body_index(B, &err);
+    B->length_unit_mm = 10;
+    st = cb_bool_run(&res, NULL, CB_BOOL_UNION, A, B, NULL, NULL, &err);
+    CHECK(st == CB_ERR_UNSUPPORTED && !res &&
+              check_msg_has(err.msg, (const char *const[]){"length units", NULL}),
+          "mixed units: %d %s", st, err.msg);
     cb_topo_body_free(A);
     cb_topo_body_free(B);
 }
