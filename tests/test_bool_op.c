@@ -135,6 +135,69 @@ static void test_steinmetz(int as_nurbs, const double ref[3], const char *name)
     cb_topo_body_free(B);
 }
 
+/* Known gap: the operation must fail with a message and no result (never a wrong solid). When
+ * this check starts to fail the case works: check its volumes instead. */
+static void check_refused(const char *name, const cb_topo_body *A, const cb_topo_body *B)
+{
+    cb_topo_body *res = NULL;
+    cb_error err;
+    cb_error_clear(&err);
+    cb_status st = cb_bool_run(&res, NULL, CB_BOOL_INTERSECTION, A, B, NULL, NULL, &err);
+    CHECK(st != CB_OK && !res && err.msg[0] && strstr(err.msg, "bool: "),
+          "%s: status %d (%s): the known gap is closed, check the volumes instead", name, st,
+          err.msg);
+    printf("%-22s known gap: %.150s\n", name, err.msg);
+    cb_topo_body_free(res);
+}
+
+/* Two unit spheres whose centres are 1 apart: the lens between them has volume 5 pi / 12. A
+ * torus (R = 2, r = 1/2) cut by the box below its centre plane: half of it, pi^2 R r^2.
+ * Analytic faces work; as B-splines both are known gaps (check_refused). */
+static void test_lens_torus(int as_nurbs)
+{
+    double c1[3] = {0, 0, 0}, c2[3] = {1, 0, 0};
+    cb_topo_body *A = sphere(c1, 1, as_nurbs), *B = sphere(c2, 1, as_nurbs);
+    const char *name = as_nurbs ? "lens NURBS" : "lens";
+    if (A && B && as_nurbs) {
+        /* the rational spheres' pairs are not certified by the subdivision route */
+        check_refused(name, A, B);
+    } else if (A && B) {
+        double lens = 5 * PI / 12, ball = 4 * PI / 3;
+        check_op(name, CB_BOOL_INTERSECTION, A, B, lens, 1e-6, NULL);
+        check_op(name, CB_BOOL_UNION, A, B, 2 * ball - lens, 1e-6, NULL);
+        check_op(name, CB_BOOL_DIFFERENCE, A, B, ball - lens, 1e-6, NULL);
+    }
+    cb_topo_body_free(A);
+    cb_topo_body_free(B);
+    cb_frame f;
+    cb_error err;
+    double o[3] = {0, 0, 0}, z[3] = {0, 0, 1}, x[3] = {1, 0, 0};
+    cb_topo_body *T = NULL, *X = NULL;
+    double lo[3] = {-3, -3, -1}, hi[3] = {3, 3, 0};
+    cb_status st = cb_frame_make(&f, o, z, x, &err);
+    if (!st)
+        st = cb_prim_torus(&T, &f, 2, 0.5, as_nurbs, 0, &err);
+    if (!st)
+        st = cb_prim_box(&X, NULL, lo, hi, as_nurbs, 0, &err);
+    CHECK(st == CB_OK, "torus, box: %s", err.msg);
+    if (!st) {
+        double half = PI * PI * 2 * 0.25, box = 36;
+        name = as_nurbs ? "torus and box NURBS" : "torus and box";
+        if (as_nurbs) {
+            /* the cuts run along the torus patches' knot lines and do not sew up yet */
+            check_refused(name, T, X);
+            cb_topo_body_free(T);
+            cb_topo_body_free(X);
+            return;
+        }
+        check_op(name, CB_BOOL_INTERSECTION, T, X, half, 1e-6, NULL);
+        check_op(name, CB_BOOL_UNION, T, X, box + half, 1e-6, NULL);
+        check_op(name, CB_BOOL_DIFFERENCE, T, X, half, 1e-6, NULL);
+    }
+    cb_topo_body_free(T);
+    cb_topo_body_free(X);
+}
+
 /* A Cardan scenario: the cross's arm cut into the yoke's base (planes and cylinders, analytic
  * or exact rational B-splines), volumes from the scenario's closed forms. Scenarios with
  * coincident faces must fail saying so. */
@@ -305,7 +368,7 @@ static void test_bad_operands(void)
 }
 
 /* With an argument, only the named group runs (for debugging): bad, face, corner, steinmetz,
- * cardan, birds. */
+ * lens, cardan, birds. */
 int main(int argc, char **argv)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -322,6 +385,10 @@ int main(int argc, char **argv)
         test_steinmetz(0, d, "steinmetz seams off");
         test_steinmetz(1, z, "steinmetz NURBS");
         test_steinmetz(1, d, "steinmetz NURBS seams off");
+    }
+    if (!only || !strcmp(only, "lens")) {
+        test_lens_torus(0);
+        test_lens_torus(1);
     }
     if (!only || !strcmp(only, "cardan")) {
         test_cardan(0);
