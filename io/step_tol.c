@@ -83,8 +83,8 @@ static double vertex_gap(const cb_topo_body *b, int e, int j)
 
 /* Pcurves mapped through their surfaces against their edges, each measured as validation
  * does at the edge's current tolerance (which decides how a pcurve's range is found); only
- * the pcurves of the edges marked in todo. */
-static cb_status pcurve_deviation(double *dev, const cb_topo_body *b, const char *todo,
+ * the pcurves of the edges marked in pending. */
+static cb_status pcurve_deviation(double *dev, const cb_topo_body *b, const char *pending,
                                   cb_error *err)
 {
     for (int f = 0; f < b->n_faces; f++) {
@@ -92,7 +92,7 @@ static cb_status pcurve_deviation(double *dev, const cb_topo_body *b, const char
         int with = 0;
         for (int l = fc->first; l < fc->first + fc->count; l++)
             for (int c = b->loops[l].first; c < b->loops[l].first + b->loops[l].count; c++)
-                with += b->coedges[c].pcurve >= 0 && todo[b->coedges[c].edge];
+                with += b->coedges[c].pcurve >= 0 && pending[b->coedges[c].edge];
         if (!with)
             continue;
         cb_topo_inverter inv;
@@ -101,7 +101,7 @@ static cb_status pcurve_deviation(double *dev, const cb_topo_body *b, const char
             return st;
         for (int l = fc->first; l < fc->first + fc->count; l++)
             for (int c = b->loops[l].first; c < b->loops[l].first + b->loops[l].count; c++) {
-                if (b->coedges[c].pcurve < 0 || !todo[b->coedges[c].edge])
+                if (b->coedges[c].pcurve < 0 || !pending[b->coedges[c].edge])
                     continue;
                 double range[2];
                 int e = b->coedges[c].edge;
@@ -167,9 +167,9 @@ cb_status step_fit_edge_tols(cb_topo_body *b, double max_rel, cb_step_stats *sta
     double *dev = calloc((size_t)b->n_edges, sizeof *dev);
     double *base = malloc((size_t)b->n_edges * sizeof *base);
     double *old = malloc((size_t)b->n_edges * sizeof *old);
-    char *todo = malloc((size_t)b->n_edges);
+    char *pending = malloc((size_t)b->n_edges);
     cb_status st = CB_OK;
-    if (!dev || !base || !old || !todo)
+    if (!dev || !base || !old || !pending)
         st = cb_error_set(err, CB_ERR_NOMEM, "edge tolerances: out of memory");
     for (int e = 0; e < b->n_edges && !st; e++)
         base[e] = b->edges[e].tol;
@@ -183,14 +183,14 @@ cb_status step_fit_edge_tols(cb_topo_body *b, double max_rel, cb_step_stats *sta
         apply(b, dev, base, cap);
     }
     if (!st)
-        memset(todo, 1, (size_t)b->n_edges);
+        memset(pending, 1, (size_t)b->n_edges);
     for (int round = 0; round < PCURVE_ROUNDS && !st; round++) {
         memcpy(old, dev, (size_t)b->n_edges * sizeof *old);
-        if ((st = pcurve_deviation(dev, b, todo, err)))
+        if ((st = pcurve_deviation(dev, b, pending, err)))
             break;
         int grew = 0;
         for (int e = 0; e < b->n_edges; e++)
-            grew |= (todo[e] = dev[e] > old[e]);
+            grew |= (pending[e] = dev[e] > old[e]);
         if (!grew)
             break;
         apply(b, dev, base, cap);
@@ -212,7 +212,7 @@ cb_status step_fit_edge_tols(cb_topo_body *b, double max_rel, cb_step_stats *sta
     free(dev);
     free(base);
     free(old);
-    free(todo);
+    free(pending);
     /* A surface that cannot be prepared for inversion leaves the file's tolerances: the body
      * is still whole, and validation reports what does not meet them. */
     if (st && st != CB_ERR_NOMEM) {
