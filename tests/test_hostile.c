@@ -754,6 +754,11 @@ static void test_defective_models(void)
     EXPECT_ERR(1, "mesh sliver.step -o sliver.stl", "sliver.step: tessellation: face 9",
                "no area");
     EXPECT_OUT(0, "ssi sliver.step bird.step", "faces            10 x 312", "not certified 0");
+    /* A Boolean needs two closed solids: either defect is named, exit 2 (unusable input). */
+    EXPECT_ERR(2, "bool union open_solid.step bird.step -o b.stl", "operand A is not closed",
+               "edge");
+    EXPECT_ERR(2, "bool union bird.step open_shell.step -o b.stl", "operand B",
+               "not a solid's");
     /* Validation reports it, so the model is known bad before meshing. */
     EXPECT_OUT(1, "info sliver.step", "validation (tolerance 1e-07): 1 problem",
                "face 9: degenerate, its loops span no area");
