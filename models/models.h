@@ -8,6 +8,35 @@
 
 #include "brep/topo.h"
 
+/* ---------------------------------------------------------------- volume estimates --------- */
+
+/* Volumes from cb_model_overlap_estimate: V(A), V(B), V(A n B) and the standard deviation of
+ * each estimate; lines: how many vertical lines were followed (retries included). */
+typedef struct {
+    double volume_a, volume_b, volume_ab;
+    double sigma_a, sigma_b, sigma_ab;
+    long lines, retries;
+} cb_overlap_estimate;
+
+/* |cos| of the angle between a line and a face normal below which a crossing is not trusted
+ * and the line is drawn again. */
+#define CB_OVERLAP_GRAZE_COS 1e-3
+
+/* Estimates V(A), V(B) and V(A n B) of two closed solids (every coedge with a pcurve) by a
+ * method that knows nothing of Booleans: the xy rectangle holding both is cut into n x n cells,
+ * and through one random point of each cell (a fixed sequence: the same numbers on any number
+ * of threads) the vertical line is intersected with every face (cb_face_ray); the lengths it
+ * spends inside A, inside B and inside both, times the cell area, summed over the cells, are
+ * unbiased estimates of the three volumes (stratified sampling). A line whose crossings graze,
+ * touch an edge, or do not alternate between entering and leaving (a missed root) is drawn again
+ * in its cell, up to 8 times. The standard deviations come from the differences of neighbouring
+ * cells (an upper bound in expectation). The error of a result is the sampling error only if no
+ * line misses a pair of crossings; cb_face_ray's cell boxes are a heuristic (brep/face.h).
+ * n: even, 2 <= n <= 20000; threads as in cb_parallel_for. CB_ERR_NUMERIC when every line
+ * through a cell failed, CB_ERR_INVALID for n, CB_ERR_NOMEM. */
+cb_status cb_model_overlap_estimate(cb_overlap_estimate *e, const cb_topo_body *A,
+                                    const cb_topo_body *B, int n, int threads, cb_error *err);
+
 /* ---------------------------------------------------------------- hummingbird -------------- */
 
 /* The model is built in its own frame (x forward to the beak, y to the left wing, z up), about
@@ -55,6 +84,18 @@ cb_status cb_model_hummingbird(cb_topo_body **out, const cb_hummingbird_params *
  * CB_ERR_INVALID when the body is not a hummingbird of 312 B-spline faces. */
 cb_status cb_model_hummingbird_margin(double *margin, const cb_topo_body *b,
                                       const cb_hummingbird_params *p, int n, cb_error *err);
+
+/* ---------------------------------------------------------------- two birds ---------------- */
+
+/* The Boolean scenario of the paper's Fig. 12: bird A with the default parameters, bird B the
+ * same moved by (0.25, 0.08, 0.05), so that wings, body and head cross one another. */
+void cb_hummingbird_pair(cb_hummingbird_params *a, cb_hummingbird_params *b);
+
+/* The pair's volumes by cb_model_overlap_estimate with a grid of
+ * CB_HUMMINGBIRD_PAIR_GRID^2 lines (run by `colibri model hummingbird-pair --estimate N`;
+ * models/README.md): the estimates and their standard deviations. */
+#define CB_HUMMINGBIRD_PAIR_GRID 4000
+extern const cb_overlap_estimate cb_hummingbird_pair_reference;
 
 /* ---------------------------------------------------------------- Cardan joint ------------- */
 

@@ -10,6 +10,8 @@
 
 #include "check.h"
 #include "check_cli.h"
+#include "brep/mass.h"
+#include "brep/prim.h"
 #include "io/step.h"
 #include "io/step_write.h"
 #include "models/models.h"
@@ -516,6 +518,103 @@ static void test_bad_params(void)
 
 /* ---------------------------------------------------------------- command ------------------ */
 
+/* ---------------------------------------------------------------- volume estimate ---------- */
+
+static cb_topo_body *unit_sphere(double cx, int as_nurbs)
+{
+    cb_frame f;
+    cb_error err;
+    double c[3] = {cx, 0, 0}, z[3] = {0, 0, 1}, x[3] = {1, 0, 0};
+    cb_topo_body *b = NULL;
+    cb_status st = cb_frame_make(&f, c, z, x, &err);
+    if (!st)
+        st = cb_prim_sphere(&b, &f, 1, as_nurbs, 0, &err);
+    CHECK(st == CB_OK, "sphere: %s", err.msg);
+    return b;
+}
+
+/* Two unit spheres one apart: V = 4 pi / 3 each, their lens 5 pi / 12. The estimate must land
+ * within four of its standard deviations, which must be small; the same numbers on 1 and 2
+ * threads; bad grid sizes refused. */
+static void test_estimate_spheres(void)
+{
+    for (int nurbs = 0; nurbs < 2; nurbs++) {
+        cb_topo_body *a = unit_sphere(0, nurbs), *b = unit_sphere(1, nurbs);
+        if (!a || !b) {
+            cb_topo_body_free(a);
+            cb_topo_body_free(b);
+            return;
+        }
+        cb_overlap_estimate e, e1;
+        cb_error err;
+        cb_status st = cb_model_overlap_estimate(&e, a, b, 60, 2, &err);
+        CHECK(st == CB_OK, "sphere estimate: %s", err.msg);
+        double ball = 4 * PI / 3, lens = 5 * PI / 12;
+        if (!st) {
+            CHECK(fabs(e.volume_a - ball) <= 4 * e.sigma_a && e.sigma_a < 0.01 * ball,
+                  "sphere A: %.6g +- %.2g, exact %.6g", e.volume_a, e.sigma_a, ball);
+            CHECK(fabs(e.volume_b - ball) <= 4 * e.sigma_b && e.sigma_b < 0.01 * ball,
+                  "sphere B: %.6g +- %.2g, exact %.6g", e.volume_b, e.sigma_b, ball);
+            CHECK(fabs(e.volume_ab - lens) <= 4 * e.sigma_ab && e.sigma_ab < 0.01 * lens,
+                  "lens: %.6g +- %.2g, exact %.6g", e.volume_ab, e.sigma_ab, lens);
+            printf("estimate, %s spheres, 60 x 60 lines: lens %.6f +- %.1e (exact %.6f), %ld "
+                   "lines drawn again\n",
+                   nurbs ? "NURBS" : "analytic", e.volume_ab, e.sigma_ab, lens, e.retries);
+        }
+        st = cb_model_overlap_estimate(&e1, a, b, 60, 1, &err);
+        CHECK(st == CB_OK && !memcmp(&e, &e1, sizeof e), "estimate differs on 1 and 2 threads");
+        CHECK(cb_model_overlap_estimate(&e1, a, b, 7, 1, &err) == CB_ERR_INVALID &&
+                  strstr(err.msg, "grid size 7"),
+              "odd grid: %s", err.msg);
+        CHECK(cb_model_overlap_estimate(&e1, a, b, 0, 1, &err) == CB_ERR_INVALID, "grid 0 taken");
+        cb_topo_body_free(a);
+        cb_topo_body_free(b);
+    }
+}
+
+/* The two birds of the Boolean scenario: a coarse estimate agrees with the B-rep volumes of
+ * brep/mass.h and with the stored reference (cb_hummingbird_pair_reference) within four
+ * standard deviations of their difference. */
+static void test_estimate_birds(void)
+{
+    cb_hummingbird_params pa, pb;
+    cb_hummingbird_pair(&pa, &pb);
+    cb_topo_body *a = make_bird(&pa), *b = make_bird(&pb);
+    cb_error err;
+    if (a && b && !cb_topo_compute_pcurves(a, a->tol, &err) &&
+        !cb_topo_compute_pcurves(b, b->tol, &err)) {
+        cb_overlap_estimate e;
+        cb_mass_props ma, mb;
+        cb_status st = cb_model_overlap_estimate(&e, a, b, 200, 0, &err);
+        if (!st)
+            st = cb_mass_body(&ma, a, 1e-10, NULL, &err);
+        if (!st)
+            st = cb_mass_body(&mb, b, 1e-10, NULL, &err);
+        CHECK(st == CB_OK, "birds estimate: %s", err.msg);
+        if (!st) {
+            const cb_overlap_estimate *r = &cb_hummingbird_pair_reference;
+            CHECK(fabs(e.volume_a - ma.volume) <= 4 * e.sigma_a, "V(A): estimate %.8g +- %.2g, "
+                  "B-rep %.10g", e.volume_a, e.sigma_a, ma.volume);
+            CHECK(fabs(e.volume_b - mb.volume) <= 4 * e.sigma_b, "V(B): estimate %.8g +- %.2g, "
+                  "B-rep %.10g", e.volume_b, e.sigma_b, mb.volume);
+            CHECK(fabs(r->volume_a - ma.volume) <= 4 * r->sigma_a &&
+                      fabs(r->volume_b - mb.volume) <= 4 * r->sigma_b,
+                  "reference V(A) %.10g, V(B) %.10g; B-rep %.10g, %.10g", r->volume_a,
+                  r->volume_b, ma.volume, mb.volume);
+            double sd = sqrt(e.sigma_ab * e.sigma_ab + r->sigma_ab * r->sigma_ab);
+            CHECK(fabs(e.volume_ab - r->volume_ab) <= 4 * sd,
+                  "V(A n B): estimate %.8g +- %.2g, reference %.10g +- %.2g", e.volume_ab,
+                  e.sigma_ab, r->volume_ab, r->sigma_ab);
+            printf("birds, 200 x 200 lines: V(A) %.7f +- %.1e (B-rep %.9f), V(A n B) %.7f +- "
+                   "%.1e (reference %.9f +- %.1e)\n",
+                   e.volume_a, e.sigma_a, ma.volume, e.volume_ab, e.sigma_ab, r->volume_ab,
+                   r->sigma_ab);
+        }
+    }
+    cb_topo_body_free(a);
+    cb_topo_body_free(b);
+}
+
 static void test_command(void)
 {
     char path[256], args[512];
@@ -530,6 +629,13 @@ static void test_command(void)
     snprintf(args, sizeof args, "model hummingbird -o %s --rotate 0 0 1", path);
     cli_expect(args, 2, "--rotate");
     cli_expect("model hummingbird -o /nonexistent/dir/bird.step", 2, "cannot create");
+    cli_expect("model hummingbird-pair --estimate 7", 2, "--estimate");
+    cli_expect("model hummingbird-pair", 2, "usage: colibri model NAME");
+    cli_expect("model hummingbird-pair --estimate 20 --rotate 0 0 1 5", 2,
+               "--rotate does not apply to hummingbird-pair");
+    snprintf(args, sizeof args, "model hummingbird -o %s --estimate 20", path);
+    cli_expect(args, 2, "--estimate does not apply");
+    cli_expect("model hummingbird-pair --estimate 20 --threads 1", 0, "V(A n B) 0.5");
     snprintf(args, sizeof args,
              "model hummingbird -o %s --scale 2 --rotate 0.2 0.3 1 40 --translate 0.8 0.5 0.3 "
              "--wing-angle 5",
@@ -550,6 +656,8 @@ int main(void)
     test_step_round_trip();
     test_overlap();
     test_bad_params();
+    test_estimate_spheres();
+    test_estimate_birds();
     test_command();
     printf("models tests: %.2f s\n", seconds() - t0);
     return check_report("models");
