@@ -10,13 +10,18 @@
  * that parameter lengths approximate 3D lengths), and triangles are split at their centroid
  * until the surface lies within the chordal tolerance of every triangle (at its centroid and
  * the midpoints of its inner sides) and the surface normals at its corners and centroid lie
- * within the angular tolerance of its normal. Boundary samples are never moved or added to, so
- * refinement cannot break watertightness.
+ * within the angular tolerance of its normal. A triangle side joining two samples of one edge
+ * that are not neighbours along it is split too, whatever the tolerances: the face across the
+ * edge could join the same two samples, and that segment would border four triangles (two
+ * faces hugging a curved edge from its concave side do). Boundary samples are never moved or
+ * added to, so refinement cannot break watertightness.
  *
  * Special places. A seam edge (used twice by one face) has its samples on both sides of the
  * (u, v) domain, mapped to the same 3D vertices. A pole or apex (a collapsed edge, or a jump of
  * a loop along a line of the surface that collapses to one point) is one 3D vertex: the
- * triangles that would join two of its (u, v) copies are dropped. Triangles are oriented
+ * triangles that would join two of its (u, v) copies are dropped. A loop may close along such
+ * a line, and a coedge that starts on it where the previous one ended keeps its pcurve's place
+ * (the two seam coedges of a sphere face leave the pole at u = 2 pi and return at u = 0). Triangles are oriented
  * counter-clockwise in (u, v) when the face's same_sense is 1 (normal S_u x S_v), clockwise
  * otherwise, so a correctly oriented closed shell gives an outward mesh.
  *

@@ -111,8 +111,11 @@ static cb_status coedge_points(face_loops *L, const cb_topo_body *b, int c,
             guess[0] = w[0];
             guess[1] = w[1];
             /* Files lift single pcurves by whole periods (a sphere's latitude by 2 pi): move
-             * this coedge onto the end of the previous one when a lift makes them meet. */
-            if (k == 0 && have_prev) {
+             * this coedge onto the end of the previous one when a lift makes them meet, unless
+             * they already meet along a pole line (the seam coedges of a sphere face leave
+             * the pole at u = 2 pi and come back at u = 0: no lift). */
+            if (k == 0 && have_prev && !same_uv(guess, prev) &&
+                cb_topo_inverter_spread(inv, prev, guess) > gap_tol) {
                 double sh[2];
                 if (lifted_onto(sh, guess, prev, inv)) {
                     shift[0] = sh[0];
@@ -177,12 +180,14 @@ static cb_status build_loops(face_loops *L, const cb_topo_body *b, int face,
                                     F->first + l);
             if (same_uv(a, z))
                 L->n--;
+            else if (cb_topo_inverter_spread(inv, a, z) <= gap_tol)
+                ; /* closed along a pole line: the closing segment runs on the collapsed line */
             else if (lifted_onto(sh, a, z, inv))
                 return cb_error_set(err, CB_ERR_UNSUPPORTED,
                                     "loop %d wraps around the periodic surface without a seam "
                                     "edge",
                                     F->first + l);
-            else if (cb_topo_inverter_spread(inv, a, z) > gap_tol)
+            else
                 return cb_error_set(err, CB_ERR_NUMERIC,
                                     "loop %d does not close in (u, v): (%g, %g) to (%g, %g)",
                                     F->first + l, a[0], a[1], z[0], z[1]);
@@ -202,6 +207,8 @@ typedef struct {
     const cb_topo_inverter *inv;
     const cb_tess_opts *o;
     const double *es_xyz; /* the shared samples */
+    const cb_tess_edges *es;
+    int face;
     double su, sv;   /* metric: x = su u, y = sv v */
     double sign;     /* +1: face normal S_u x S_v */
     double cos_tol;  /* cos(angle_tol) */
@@ -279,7 +286,58 @@ static double dist_mid(const face_work *w, const double x[2], const double *p, c
     return cb_vec3_dist(s, m);
 }
 
-/* Whether triangle t is too far from the surface, or too steep against it. */
+/* Edge of interior sample g of es and its index among the edge's samples (the interior samples
+ * are numbered edge by edge after the vertices: edge e's first one is n_vertices + start[e] -
+ * 2 e). */
+static int sample_edge(const face_work *w, int g, int *pos)
+{
+    const cb_tess_edges *es = w->es;
+    int lo = 0, hi = es->n_edges - 1, nv = w->b->n_vertices;
+    while (lo < hi) {
+        int mid = (lo + hi + 1) / 2;
+        if (nv + es->start[mid] - 2 * mid <= g)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    *pos = g - (nv + es->start[lo] - 2 * lo) + 1;
+    return lo;
+}
+
+/* Whether the segment between shared samples a and b joins two samples of one edge of the
+ * face that are not neighbours along it. The face on the edge's other side holds both samples
+ * too and may join them the same way: two faces' triangles would then share that segment, an
+ * edge of four triangles in the body's mesh (seen where two faces hug a curved edge from its
+ * concave side). */
+static int same_edge_chord(const face_work *w, int a, int b)
+{
+    const cb_tess_edges *es = w->es;
+    int nv = w->b->n_vertices;
+    if (a >= nv && b >= nv) {
+        int pa, pb, ea = sample_edge(w, a, &pa), eb = sample_edge(w, b, &pb);
+        return ea == eb && abs(pa - pb) > 1;
+    }
+    if (a >= nv || b >= nv) {
+        int v = a < nv ? a : b, pos, e = sample_edge(w, a < nv ? b : a, &pos);
+        int m = es->start[e + 1] - es->start[e];
+        return (es->ids[es->start[e]] == v && pos > 1) ||
+               (es->ids[es->start[e + 1] - 1] == v && pos < m - 2);
+    }
+    const cb_topo_face *F = &w->b->faces[w->face];
+    for (int l = 0; l < F->count; l++) {
+        const cb_topo_loop *lp = &w->b->loops[F->first + l];
+        for (int k = 0; k < lp->count; k++) {
+            int e = w->b->coedges[lp->first + k].edge;
+            int x = es->ids[es->start[e]], y = es->ids[es->start[e + 1] - 1];
+            if (es->start[e + 1] - es->start[e] > 2 && ((x == a && y == b) || (x == b && y == a)))
+                return 1;
+        }
+    }
+    return 0;
+}
+
+/* Whether triangle t is too far from the surface, or too steep against it, or joins two
+ * samples of one edge across the face (same_edge_chord). */
 static int needs_split(const face_work *w, int t)
 {
     const cb_tess_tri *T = &w->d.t[t];
@@ -303,6 +361,11 @@ static int needs_split(const face_work *w, int t)
     }
     if (longest < w->min_side)
         return 0;
+    for (int k = 0; k < 3; k++) {
+        int a = w->gid[T->v[(k + 1) % 3]], c = w->gid[T->v[(k + 2) % 3]];
+        if (!T->c[k] && a >= 0 && c >= 0 && same_edge_chord(w, a, c))
+            return 1;
+    }
     /* A flat triangle on a boundary side: its error comes from the boundary samples, which
      * refinement may not move; splitting it would only crowd points against the side. */
     double area2 = fabs((X[1][0] - X[0][0]) * (X[2][1] - X[0][1]) -
@@ -507,6 +570,8 @@ static cb_status face_run(cb_tess_face_mesh *fm, const cb_topo_body *b, int face
         w.inv = inv;
         w.o = o;
         w.es_xyz = es->xyz;
+        w.es = es;
+        w.face = face;
         w.sign = F->same_sense ? 1 : -1;
         w.cos_tol = cos(o->angle_tol);
         /* Below the chordal tolerance a normal error is invisible, and chasing one across a
