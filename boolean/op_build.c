@@ -372,6 +372,8 @@ cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, const op_face *face
     }
     if (!st) {
         b->shells[shell].count = b->n_faces;
+        if (b->n_faces == 0)
+            b->n_solids = b->n_shells = 0; /* the empty result: no solid at all */
         for (int e = 0; e < b->n_edges; e++)
             if (bd.info[e].uses != 2)
                 (*unmatched)++;

@@ -9,10 +9,8 @@
 #include <unistd.h>
 
 #include "boolean/bool.h"
-#include "brep/mass.h"
-#include "brep/mesh_check.h"
-#include "brep/tess.h"
 #include "cli/commands.h"
+#include "cli/result.h"
 #include "io/json.h"
 #include "io/mesh.h"
 #include "io/step.h"
@@ -37,6 +35,9 @@ static const char BOOL_USAGE[] =
     "  --tol T           tolerance in model units (default 1e-6 of the operands' box diagonal)\n"
     "  --threads N       threads for the intersections (default 0: all hardware threads)\n"
     "  --quiet           no progress and no text summary; errors still go to stderr\n"
+    "\n"
+    "An empty result (operands that do not overlap, or only touch) is valid, with volume 0: a\n"
+    "mesh file gets no triangle, and no STEP file is written (STEP has no empty solid).\n"
     "\n"
     "Exit status: 0 a valid closed result was written, 1 the operation failed or its result\n"
     "is not valid (the message says why), 2 bad usage or an operand that cannot be read.\n"
@@ -63,10 +64,7 @@ typedef struct {
     const char *op;
     int ok;
     char message[CB_ERROR_MSG_LEN + 32];
-    double volume, area;
-    int solids, faces, valid;
-    int mesh_done, triangles, closed, manifold, self_intersections;
-    double mesh_volume;
+    cb_cli_result r;
     double t_ssi, t_split, t_build, t_total;
 } report;
 
@@ -87,19 +85,20 @@ static int write_report(const char *path, const report *r)
     cb_json_string(f, r->op);
     fprintf(f, ", \"status\": \"%s\", \"message\": ", r->ok ? "ok" : "error");
     cb_json_string(f, r->message);
+    const cb_cli_result *c = &r->r;
     fputs(", \"volume\": ", f);
-    json_number(f, r->volume);
+    json_number(f, c->volume);
     fputs(", \"area\": ", f);
-    json_number(f, r->area);
-    fprintf(f, ", \"solids\": %d, \"faces\": %d, \"valid\": %s", r->solids, r->faces,
-            r->valid ? "true" : "false");
-    if (r->mesh_done) {
+    json_number(f, c->area);
+    fprintf(f, ", \"solids\": %d, \"faces\": %d, \"valid\": %s", c->solids, c->faces,
+            c->valid ? "true" : "false");
+    if (c->mesh_done) {
         fprintf(f,
                 ", \"mesh\": {\"triangles\": %d, \"closed\": %s, \"manifold\": %s, "
                 "\"self_intersections\": %d, \"volume\": ",
-                r->triangles, r->closed ? "true" : "false", r->manifold ? "true" : "false",
-                r->self_intersections);
-        json_number(f, r->mesh_volume);
+                c->triangles, c->closed ? "true" : "false", c->manifold ? "true" : "false",
+                c->self_intersections);
+        json_number(f, c->mesh_volume);
         fputc('}', f);
     } else {
         fputs(", \"mesh\": null", f);
@@ -111,72 +110,48 @@ static int write_report(const char *path, const report *r)
     return fclose(f) == 0;
 }
 
-/* Validates, integrates and meshes the result into rep; writes out. Returns the exit status. */
+/* Checks the result into rep (cli/result.h) and writes out. Returns the exit status. */
 static int finish(report *rep, cb_topo_body *res, const char *out, int quiet, cb_context *ctx)
 {
     cb_error err;
     cb_error_clear(&err);
-    rep->faces = res->n_faces;
-    rep->solids = res->n_solids;
-    cb_topo_report vr;
-    cb_topo_report_init(&vr);
-    cb_status st = cb_topo_validate(&vr, res, res->tol, 9, &err);
-    rep->valid = !st && vr.n == 0;
-    if (!rep->valid)
-        snprintf(rep->message, sizeof rep->message, "result not valid: %s",
-                 st ? err.msg : vr.items[0]);
-    cb_topo_report_clear(&vr);
-    cb_mass_props m;
-    st = cb_mass_body(&m, res, CB_MASS_REL_TOL, ctx, &err);
-    if (!st) {
-        rep->volume = m.volume;
-        rep->area = m.area;
-    } else if (rep->valid) {
-        rep->valid = 0;
-        snprintf(rep->message, sizeof rep->message, "volume: %s", err.msg);
-    }
     cb_mesh_t mesh;
     cb_mesh_init(mesh);
-    cb_context_progress_reset(ctx);
-    st = cb_tess_body(mesh, res, NULL, ctx, &err);
-    cb_mesh_check_report cr;
-    if (!st)
-        st = cb_mesh_check(&cr, mesh, &err);
-    if (!st) {
-        rep->mesh_done = 1;
-        rep->triangles = cr.triangles;
-        rep->closed = cr.closed;
-        rep->manifold = cr.edge_manifold && cr.vertex_manifold;
-        rep->self_intersections = cr.self_intersections;
-        rep->mesh_volume = cr.volume;
-    } else if (rep->valid) {
-        rep->valid = 0;
-        snprintf(rep->message, sizeof rep->message, "mesh: %s", err.msg);
-    }
-    int code = rep->valid ? 0 : 1;
-    if (has_extension(out, "step") || has_extension(out, "stp"))
+    cb_cli_result *r = &rep->r;
+    cb_cli_result_check(r, res, mesh, ctx);
+    snprintf(rep->message, sizeof rep->message, "%s", r->message);
+    int code = r->valid ? 0 : 1;
+    cb_status st = CB_OK;
+    int step = has_extension(out, "step") || has_extension(out, "stp");
+    if (step && res->n_faces == 0)
+        fprintf(stderr, "colibri: the result is empty: no STEP file written (a STEP solid needs "
+                        "a face)\n");
+    else if (step)
         st = cb_step_write(res, out, "colibri boolean", &err);
     else
-        st = rep->mesh_done ? cb_mesh_write(out, mesh, NULL, &err) : CB_OK;
+        st = r->mesh_done ? cb_mesh_write(out, mesh, NULL, &err) : CB_OK;
     if (st) {
         fprintf(stderr, "colibri: %s\n", err.msg);
         code = 2;
     }
     cb_mesh_clear(mesh);
     if (!quiet) {
-        printf("result: %d solid%s, %d faces, %s\n", rep->solids, rep->solids == 1 ? "" : "s",
-               rep->faces, rep->valid ? "valid" : "NOT valid");
-        printf("volume %.12g, area %.12g (B-rep, model units)\n", rep->volume, rep->area);
-        if (rep->mesh_done)
+        if (res->n_faces == 0)
+            printf("result: empty (the operands do not overlap, or touch only)\n");
+        else
+            printf("result: %d solid%s, %d faces, %s\n", r->solids, r->solids == 1 ? "" : "s",
+                   r->faces, r->valid ? "valid" : "NOT valid");
+        printf("volume %.12g, area %.12g (B-rep, model units)\n", r->volume, r->area);
+        if (r->mesh_done)
             printf("mesh: %d triangles, closed %s, manifold %s, self-intersections %s, volume "
                    "%.10g\n",
-                   rep->triangles, rep->closed ? "yes" : "no", rep->manifold ? "yes" : "no",
-                   rep->self_intersections < 0   ? "not checked"
-                   : rep->self_intersections ? "yes"
-                                             : "none",
-                   rep->mesh_volume);
-        if (!rep->valid)
-            printf("%s\n", rep->message);
+                   r->triangles, r->closed ? "yes" : "no", r->manifold ? "yes" : "no",
+                   r->self_intersections < 0   ? "not checked"
+                   : r->self_intersections ? "yes"
+                                           : "none",
+                   r->mesh_volume);
+        if (!r->valid)
+            printf("%s\n", r->message);
     }
     return code;
 }
@@ -267,7 +242,7 @@ int cb_cli_bool(int argc, char **argv)
     report rep;
     memset(&rep, 0, sizeof rep);
     rep.op = cb_bool_op_name(op);
-    rep.volume = rep.area = NAN;
+    rep.r.volume = rep.r.area = NAN;
     cb_status st = cb_bool_run(&res, &stats, op, body[0], body[1], &o, &ctx, &err);
     rep.t_ssi = stats.time_ssi;
     rep.t_split = stats.time_split;

@@ -148,6 +148,29 @@ static void test_unsupported(void)
           "error report: %s", text ? text : "(none)");
 }
 
+/* Operands that only touch (the cross's arm lying on the yoke's base along a line): the
+ * intersection is the empty solid, valid with volume 0; a mesh file is written, a STEP file
+ * is not (STEP has no empty solid). */
+static void test_empty(void)
+{
+    char a[600], b[600], out[600], rep[600], args[3000];
+    snprintf(args, sizeof args, "model cardan cross_on_base -o %s --out-b %s",
+             at(a, sizeof a, "t1.step"), at(b, sizeof b, "t2.step"));
+    cli_expect(args, 0, "");
+    snprintf(args, sizeof args, "bool intersection %s %s -o %s --json %s", a, b,
+             at(out, sizeof out, "t.stl"), at(rep, sizeof rep, "t.json"));
+    cli_expect(args, 0, "result: empty");
+    const char *text = slurp(rep);
+    CHECK(text && strstr(text, "\"status\": \"ok\"") && json_number(text, "volume") == 0 &&
+              json_number(text, "solids") == 0 && json_number(text, "triangles") == 0,
+          "empty report: %s", text ? text : "(none)");
+    CHECK(access(out, F_OK) == 0, "no mesh file for the empty result");
+    snprintf(args, sizeof args, "bool intersection %s %s -o %s", a, b,
+             at(out, sizeof out, "t.step"));
+    cli_expect(args, 0, "no STEP file written");
+    CHECK(access(out, F_OK) != 0, "a STEP file was written for the empty result");
+}
+
 int main(void)
 {
     const char *tmp = getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp";
@@ -159,6 +182,7 @@ int main(void)
     test_usage();
     test_birds();
     test_unsupported();
+    test_empty();
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0)
         return 1;

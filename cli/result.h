@@ -1,0 +1,26 @@
+/* result.h — the checks every Boolean result gets in the CLI (colibri bool, colibri demo). */
+#ifndef CB_CLI_RESULT_H
+#define CB_CLI_RESULT_H
+
+#include "brep/context.h"
+#include "brep/mesh.h"
+#include "brep/topo.h"
+
+typedef struct {
+    int valid;                          /* validator clean, volume and mesh computed */
+    char message[CB_ERROR_MSG_LEN + 32]; /* why not valid ("" when valid) */
+    double volume, area;                /* B-rep integration (NAN when it failed) */
+    int solids, faces;
+    int mesh_done;                      /* the fields below are set */
+    int triangles, closed, manifold, self_intersections;
+    double mesh_volume;
+} cb_cli_result;
+
+/* Validates res at its tolerance, integrates its volume and area (CB_MASS_REL_TOL), tessellates
+ * it into mesh (replacing its contents; default tolerances) and checks the mesh (closed,
+ * manifold, self-intersections, volume); the first failure is r->message. The empty body (no
+ * face) is valid with volume 0 and an empty mesh that passes every check. */
+void cb_cli_result_check(cb_cli_result *r, cb_topo_body *res, cb_mesh_t mesh,
+                         cb_context *ctx);
+
+#endif
