@@ -14,6 +14,7 @@ int cb_cli_check(int argc, char **argv);
 int cb_cli_ssi(int argc, char **argv);
 int cb_cli_mesh(int argc, char **argv);
 int cb_cli_bool(int argc, char **argv);
+int cb_cli_demo(int argc, char **argv);
 
 /* Option values (cli/args.c): 0 with the value stored, or 2 (the exit status) after printing
  * what the option needs. --tol: a positive finite number; --threads: a count in [0, 4096]. */

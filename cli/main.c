@@ -14,7 +14,7 @@ static void usage(FILE *out)
             "commands:\n"
             "  info FILE     load a model (.step, .stp, .bpt) and print its counts, surface\n"
             "                types, bounds and validation (--json for one JSON object)\n"
-            "  model NAME    build a shipped model (hummingbird) in a given pose and write it\n"
+            "  model NAME    build a shipped model (hummingbird, cardan) in a given pose and write it\n"
             "                as STEP (-o FILE.step)\n"
             "  check MESH    check that a mesh (.stl, .obj, .ply, .off) is closed, manifold,\n"
             "                outward and free of self-intersections; print its volume\n"
@@ -23,6 +23,8 @@ static void usage(FILE *out)
             "                (-o OUT.stl|obj|ply|off, --tol T)\n"
             "  bool OP A B   union, intersection or difference of two STEP solids\n"
             "                (-o OUT.step|stl|obj|ply|off, --json REPORT)\n"
+            "  demo          every shipped Boolean scenario in all three operations, against\n"
+            "                its reference volume; meshes and pictures to out/\n"
             "\n"
             "Run 'colibri COMMAND --help' for the options of a command.\n"
             "\n"
@@ -80,7 +82,7 @@ int main(int argc, char **argv)
                     {"check", cb_cli_check},
                     {"ssi", cb_cli_ssi},
                     {"mesh", cb_cli_mesh},
-                    {"bool", cb_cli_bool}};
+                    {"bool", cb_cli_bool}, {"demo", cb_cli_demo}};
     for (size_t c = 0; c < sizeof commands / sizeof *commands; c++)
         if (!strcmp(cmd, commands[c].name)) {
             int code = cb_cli_limits_apply(&lim);

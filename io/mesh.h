@@ -39,6 +39,15 @@ cb_status cb_mesh_format_of_path(cb_mesh_format *fmt, const char *path, cb_error
 cb_status cb_mesh_write(const char *path, const cb_mesh_t mesh, const cb_mesh_write_options *opt,
                         cb_error *err);
 
+/* Writes a picture of the mesh as an SVG file: its triangles seen from the direction
+ * (1, -1.5, 1) (orthographic, z up), drawn back to front, each shaded by the angle of its normal
+ * to a fixed light, triangles facing away from the viewer left out (the mesh is taken to be a
+ * closed outward-oriented surface); title is written above the picture (NULL: none). The
+ * picture is width x width pixels in its largest direction, width in [16, 20000]. CB_ERR_INVALID
+ * for an empty mesh or a bad width, CB_ERR_IO when the file cannot be written, CB_ERR_NOMEM. */
+cb_status cb_mesh_write_svg(const char *path, const cb_mesh_t mesh, const char *title, int width,
+                            cb_error *err);
+
 /* Replaces the contents of mesh with the triangles of the file at path (format by extension);
  * vertices keep the file's order and sharing. CB_ERR_IO when the file cannot be opened or is
  * not a regular file ("is a directory", "not a regular file"); CB_ERR_PARSE when it cannot be

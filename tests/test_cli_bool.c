@@ -171,6 +171,35 @@ static void test_empty(void)
     CHECK(access(out, F_OK) != 0, "a STEP file was written for the empty result");
 }
 
+/* colibri demo on one scenario: the table's rows, its verdicts, and the files it writes; bad
+ * arguments. */
+static void test_demo(void)
+{
+    char out[600], path[700], args[3000];
+    at(out, sizeof out, "demo");
+    snprintf(args, sizeof args, "demo --only cross_into_base_nurbs --out %s --threads 2", out);
+    cli_expect(args, 0, "3 ok, 0 WRONG, 0 refused");
+    CHECK(strstr(cli_out, "cross_into_base_nurbs      intersection   0.193364") != NULL,
+          "demo row: %s", cli_out);
+    static const char *const files[] = {"union.stl", "union.obj", "union.svg",
+                                        "intersection.svg", "difference.obj"};
+    for (size_t k = 0; k < sizeof files / sizeof *files; k++) {
+        snprintf(path, sizeof path, "%s/cross_into_base_nurbs_%s", out, files[k]);
+        CHECK(access(path, F_OK) == 0, "demo did not write %s", path);
+    }
+    snprintf(path, sizeof path, "%s/cross_into_base_nurbs_union.svg", out);
+    const char *svg = slurp(path);
+    CHECK(svg && strstr(svg, "<svg") && strstr(svg, "<path fill="), "picture: %.200s",
+          svg ? svg : "(none)");
+    snprintf(args, sizeof args, "demo --only two_crosses --out %s", out);
+    cli_expect(args, 0, "0 ok, 0 WRONG, 6 refused");
+    cli_expect("demo --only no_such_scenario", 2, "no scenario name contains");
+    cli_expect("demo --bogus", 2, "unknown argument");
+    snprintf(args, sizeof args, "demo --only cross_into_base --out %s/cross_into_base_nurbs_union.stl",
+             out);
+    cli_expect(args, 2, "is not a directory");
+}
+
 int main(void)
 {
     const char *tmp = getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp";
@@ -183,6 +212,7 @@ int main(void)
     test_birds();
     test_unsupported();
     test_empty();
+    test_demo();
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0)
         return 1;
