@@ -102,6 +102,10 @@ void cb_bool_solid_box(cb_aabb *box, const cb_bool_solid *s);
 cb_status cb_bool_solid_classify(cb_bool_where *where, const cb_bool_solid *s, const double p[3],
                                  cb_error *err);
 
+/* The outward unit normal of the face of s nearest p (cb_face_distance), when one lies within
+ * the handle's tolerance of p and has a normal there: 1; else 0 (n unset). Thread safe. */
+int cb_bool_solid_normal_at(double n[3], const cb_bool_solid *s, const double p[3]);
+
 /* One point against b: prepares, classifies and releases (use a cb_bool_solid for many). */
 cb_status cb_bool_point_in_solid(cb_bool_where *where, const cb_topo_body *b, const double p[3],
                                  double tol, cb_error *err);
@@ -147,6 +151,12 @@ void cb_bool_cuts_clear(cb_bool_cuts *c);
  * (u, v) on both faces (side 0, 1) meet each other to fourth order in the point spacing where
  * the linear polyline would only to second. out (initialised) is replaced. */
 cb_status cb_bool_cut_curve(cb_topo_curve *out, const cb_bool_cut *c, int side, cb_error *err);
+
+/* Position *pos in [lo, hi] (segment index + fraction) of the point of cut c's polyline
+ * nearest p, and its distance from p. The cut's curve (cb_bool_cut_curve) passes through the
+ * polyline's points with the position as its parameter. */
+double cb_bool_cut_project(double *pos, const cb_bool_cut *c, const double p[3], double lo,
+                           double hi);
 
 /* The cuts of every curve of r (SSI of A's faces against B's, face indices those of the
  * prepared solids A and B), appended to out. Inside means inside both trimmed faces by the
@@ -204,17 +214,27 @@ typedef struct {
  * split in its (u, v) domain along its cuts (the 2D arrangement of its loop polygon and cuts,
  * boolean/arrange.h); each region classified by a point inside it against the other solid
  * (cb_bool_solid_classify) and kept as the operation selects (union: outside, intersection:
- * inside, difference: A's outside and B's inside, turned); the kept regions become faces on
+ * inside, difference: A's outside and B's inside, turned). Coincident faces (one surface, as the
+ * SSI reports them): each is also split along the other's edges where they lie inside it
+ * (boolean/imprint.c), and a region lying on the other solid keeps one copy, A's, where the
+ * result's boundary runs: when the outward normals agree in union and intersection, when they
+ * are opposite in A - B. Intersection curves running along a face's boundary or along such an
+ * imprint are left out of that face's split. The kept regions become faces on
  * copies of their surfaces, their boundary pieces edges on copies of the original edge
  * curves, their cuts degree-1 B-spline edges through the intersection points with degree-1
  * pcurves; pieces are sewn into shared edges where their end vertices (welded within
- * CB_BOOL_WELD tol) and midpoints agree; the other pcurves are computed (cb_topo_compute_pcurves).
+ * CB_BOOL_WELD tol) and midpoints agree, after a piece that would find no partner is split at
+ * the ends of other such pieces lying on it (the faces along one curve need not be split at the
+ * same points when coincident faces meet a third one); the other pcurves are computed
+ * (cb_topo_compute_pcurves).
  * The result is one solid with one shell holding every kept face (its connected parts and
  * voids are not separated into solids yet).
  *
- * Not handled yet, reported and never guessed: a region lying on the other solid (coincident
- * faces: CB_ERR_UNSUPPORTED), pieces that do not sew up (CB_ERR_NUMERIC with the count). Isolated
- * touching points do not split faces. ctx: threads for the SSI, progress (stage "boolean"),
+ * Not handled yet, reported and never guessed: a region touching the other solid where the
+ * faces are not coincident (normals not within acos 0.9: CB_ERR_UNSUPPORTED), faces lying on one
+ * surface only in part (CB_ERR_UNSUPPORTED), pieces that do not sew up (CB_ERR_NUMERIC with the
+ * count). Isolated touching points do not split faces; solids touching along a curve give a
+ * union whose shell touches itself along it. ctx: threads for the SSI, progress (stage "boolean"),
  * cancellation between faces; may be NULL. stats may be NULL. */
 cb_status cb_bool_run(cb_topo_body **out, cb_bool_stats *stats, cb_bool_op op,
                       const cb_topo_body *A, const cb_topo_body *B, const cb_bool_opts *opts,

@@ -159,6 +159,30 @@ cb_status cb_bool_solid_classify(cb_bool_where *where, const cb_bool_solid *s, c
                         p[0], p[1], p[2], votes[1], votes[0], rejected);
 }
 
+int cb_bool_solid_normal_at(double n[3], const cb_bool_solid *s, const double p[3])
+{
+    cb_aabb pt = {{p[0], p[1], p[2]}, {p[0], p[1], p[2]}};
+    if (!s->n_faces || !cb_aabb_overlap(&s->box, &pt, s->tol))
+        return 0;
+    int *cand = malloc((size_t)s->n_faces * sizeof *cand);
+    if (!cand)
+        return 0;
+    int m = cb_bool_bvh_query_box(cand, s->n_faces, &s->bvh, &pt, s->tol), best = -1;
+    double best_d = s->tol, best_uv[2] = {0, 0};
+    for (int k = 0; k < m; k++) {
+        double uv[2];
+        double d = cb_face_distance(uv, &s->faces[cand[k]], p);
+        if (d <= best_d) {
+            best_d = d;
+            best = cand[k];
+            best_uv[0] = uv[0];
+            best_uv[1] = uv[1];
+        }
+    }
+    free(cand);
+    return best >= 0 && cb_face_normal(n, &s->faces[best], best_uv[0], best_uv[1]) > 0;
+}
+
 cb_status cb_bool_point_in_solid(cb_bool_where *where, const cb_topo_body *b, const double p[3],
                                  double tol, cb_error *err)
 {

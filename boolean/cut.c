@@ -1,23 +1,12 @@
 /* cut.c — intersection curves restricted to both trimmed faces and brought into each face's
  * (u, v) window, ready to split the faces (cb_bool_cuts_make). */
-#include "boolean/bool.h"
+#include "boolean/cut_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* One curve point with its parameters on both faces. */
-typedef struct {
-    double xyz[3];
-    double uv[2][2];
-} cut_pt;
-
-typedef struct {
-    int n, cap;
-    cut_pt *p;
-} cut_run;
-
-static int run_push(cut_run *r, const cut_pt *p)
+int _cb_cut_run_push(cut_run *r, const cut_pt *p)
 {
     if (r->n == r->cap) {
         int cap = r->cap ? 2 * r->cap : 32;
@@ -169,11 +158,17 @@ static int length_over(const cut_run *r, double min_len)
     return len > min_len;
 }
 
-typedef struct {
-    const cb_face *f[2];
-    double lo[2][2], P[2][2]; /* per side and direction; P 0 where not periodic */
-    double min_len;
-} cut_ctx;
+void _cb_cut_ctx_init(cut_ctx *cx, const cb_face *fa, const cb_face *fb, double tol)
+{
+    cx->f[0] = fa;
+    cx->f[1] = fb;
+    cx->min_len = tol;
+    for (int s = 0; s < 2; s++)
+        for (int d = 0; d < 2; d++) {
+            cx->P[s][d] = cx->f[s]->inv.period[d];
+            cx->lo[s][d] = cx->P[s][d] > 0 ? window_lo(cx->f[s], d) : 0;
+        }
+}
 
 /* Solves the 4 x 4 system J d = r in place (Gaussian elimination, partial pivoting); 0 when
  * singular. */
@@ -352,8 +347,8 @@ static int find_cross(const cut_ctx *cx, const cut_pt *a, const cut_pt *b, cut_p
 /* Wraps the periodic parameters of run r into the faces' windows and splits it where a lift
  * jumps (the curve crosses a window's end, the seam of a face spanning a whole period). A
  * closed run with a crossing is first rotated to start and end there. Emits the pieces. */
-static cb_status split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cut_ctx *cx,
-                            const cb_ssi_curve *c, int curve, cb_error *err)
+cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cut_ctx *cx,
+                             const cb_ssi_curve *c, int curve, cb_error *err)
 {
     if (!closed && !length_over(r, cx->min_len))
         return CB_OK; /* a curve grazing a corner of a face: no piece to split by */
@@ -374,23 +369,23 @@ static cb_status split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cut
     if (closed) {
         /* From the crossing round to it: after, p[first + 1 ..], p[1 .. first], before (the
          * last point repeats the first). */
-        fail |= run_push(&rot, &after);
+        fail |= _cb_cut_run_push(&rot, &after);
         for (int i = first + 1; i < r->n; i++)
-            fail |= run_push(&rot, r->p + i);
+            fail |= _cb_cut_run_push(&rot, r->p + i);
         for (int i = 1; i <= first; i++)
-            fail |= run_push(&rot, r->p + i);
-        fail |= run_push(&rot, &before);
+            fail |= _cb_cut_run_push(&rot, r->p + i);
+        fail |= _cb_cut_run_push(&rot, &before);
         r = &rot;
     }
     cb_status st = CB_OK;
     for (int i = 0; i < r->n && !fail && !st; i++) {
-        fail |= run_push(&piece, r->p + i);
+        fail |= _cb_cut_run_push(&piece, r->p + i);
         if (i + 1 < r->n && find_cross(cx, r->p + i, r->p + i + 1, &before, &after)) {
-            fail |= run_push(&piece, &before);
+            fail |= _cb_cut_run_push(&piece, &before);
             if (!fail && length_over(&piece, 0.1 * cx->min_len))
                 st = emit(out, &piece, c, curve, 0, 1e-6 * cx->min_len, cx->f, err);
             piece.n = 0;
-            fail |= run_push(&piece, &after);
+            fail |= _cb_cut_run_push(&piece, &after);
         }
     }
     if (!fail && !st && piece.n >= 2 && length_over(&piece, 0.1 * cx->min_len))
@@ -488,6 +483,32 @@ static void tangents(cb_bool_cut *k, const cb_face *const f[2])
             }
         }
     }
+}
+
+double cb_bool_cut_project(double *pos, const cb_bool_cut *c, const double p[3], double lo,
+                           double hi)
+{
+    double best = HUGE_VAL;
+    *pos = lo;
+    int i0 = (int)floor(lo), i1 = (int)ceil(hi);
+    for (int i = i0 < 0 ? 0 : i0; i < i1 && i + 1 < c->n; i++) {
+        const double *a = c->xyz + 3 * i, *b = a + 3;
+        double ab[3], ap[3], L2 = 0, dot = 0;
+        for (int k = 0; k < 3; k++) {
+            ab[k] = b[k] - a[k];
+            ap[k] = p[k] - a[k];
+            L2 += ab[k] * ab[k];
+            dot += ab[k] * ap[k];
+        }
+        double x = fmin(hi, fmax(lo, i + (L2 > 0 ? dot / L2 : 0))), d2 = 0;
+        for (int k = 0; k < 3; k++)
+            d2 += (ap[k] - (x - i) * ab[k]) * (ap[k] - (x - i) * ab[k]);
+        if (d2 < best) {
+            best = d2;
+            *pos = x;
+        }
+    }
+    return sqrt(best);
 }
 
 cb_status cb_bool_cut_curve(cb_topo_curve *out, const cb_bool_cut *c, int side, cb_error *err)
@@ -623,14 +644,8 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
         if (c->n < 2)
             continue;
         cut_ctx cx;
-        cx.f[0] = cb_bool_solid_face(A, c->face_a);
-        cx.f[1] = cb_bool_solid_face(B, c->face_b);
-        cx.min_len = tol;
-        for (int s = 0; s < 2; s++)
-            for (int d = 0; d < 2; d++) {
-                cx.P[s][d] = cx.f[s]->inv.period[d];
-                cx.lo[s][d] = cx.P[s][d] > 0 ? window_lo(cx.f[s], d) : 0;
-            }
+        _cb_cut_ctx_init(&cx, cb_bool_solid_face(A, c->face_a), cb_bool_solid_face(B, c->face_b),
+                         tol);
         int n = (int)c->n;
         cut_pt *pts = malloc((size_t)n * sizeof *pts);
         char *in = malloc((size_t)n);
@@ -656,10 +671,10 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
         cut_run run = {0, 0, NULL};
         if (n_in == n) {
             for (int i = 0; i < n && !st; i++)
-                if (run_push(&run, pts + i))
+                if (_cb_cut_run_push(&run, pts + i))
                     st = cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
             if (!st)
-                st = split_emit(out, &run, c->closed, &cx, c, (int)k, err);
+                st = _cb_cut_split_emit(out, &run, c->closed, &cx, c, (int)k, err);
         } else if (n_in > 0) {
             /* Walk the points once (a closed curve from an outside point round to it), one
              * run per stretch inside, cut at the exit points. */
@@ -674,30 +689,32 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
                 if (in[i] && !prev_in && prev) {
                     cut_pt x;
                     exit_point(&x, &cx, p, prev, cls_tol);
-                    if (run_push(&run, &x))
+                    if (_cb_cut_run_push(&run, &x))
                         st = cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
                 }
-                if (in[i] && !st && run_push(&run, p))
+                if (in[i] && !st && _cb_cut_run_push(&run, p))
                     st = cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
                 if (!in[i] && prev_in && !st) {
                     cut_pt x;
                     exit_point(&x, &cx, prev, p, cls_tol);
-                    if (run_push(&run, &x))
+                    if (_cb_cut_run_push(&run, &x))
                         st = cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
                     else if (run.n >= 2)
-                        st = split_emit(out, &run, 0, &cx, c, (int)k, err);
+                        st = _cb_cut_split_emit(out, &run, 0, &cx, c, (int)k, err);
                     run.n = 0;
                 }
                 prev_in = in[i];
                 prev = p;
             }
             if (!st && run.n >= 2)
-                st = split_emit(out, &run, 0, &cx, c, (int)k, err);
+                st = _cb_cut_split_emit(out, &run, 0, &cx, c, (int)k, err);
         }
         free(run.p);
         free(pts);
         free(in);
     }
+    if (!st)
+        st = _cb_cuts_imprint(out, r, A, B, tol, err);
     if (!st)
         snap_ends(out, A, B, CB_BOOL_WELD * tol);
     if (st)

@@ -10,6 +10,7 @@
 #include <time.h>
 
 #include "boolean/arrange.h"
+#include "brep/geom.h"
 
 const char *cb_bool_op_name(cb_bool_op op)
 {
@@ -138,6 +139,20 @@ static void uv_scale(double scale[2], const cb_face *F)
             scale[k] = 1;
 }
 
+/* Cosine between the normals of two faces above which they count as coincident. */
+#define COINCIDENT_COS 0.9
+
+/* A piece lying on the other solid's boundary (coincident faces), its outward normal the same
+ * as the other face's (same = 1) or opposite: one copy of the shared face is kept, A's, where
+ * the result's boundary runs there — in union and intersection when the solids lie on the same
+ * side, in A - B when they lie on opposite sides (then B is outside A there). */
+static int keep_on_piece(cb_bool_op op, int side, int same)
+{
+    if (side != 0)
+        return 0;
+    return op == CB_BOOL_DIFFERENCE ? !same : same;
+}
+
 static int keep_piece(cb_bool_op op, int side, cb_bool_where w, int *flip)
 {
     *flip = 0;
@@ -149,6 +164,36 @@ static int keep_piece(cb_bool_op op, int side, cb_bool_where w, int *flip)
     case CB_BOOL_DIFFERENCE:
         *flip = side == 1;
         return side == 0 ? w == CB_BOOL_OUT : w == CB_BOOL_IN;
+    }
+    return 0;
+}
+
+/* Whether cut k says nothing new to face F (on side `side`): it runs along the face's
+ * boundary (every point ON within CB_BOOL_SNAP tolerances), or it is an intersection curve
+ * running along a coincident face's imprint on F (every point within that of the imprint's
+ * polyline), which is sampled finer. Added anyway, it would cross the line it runs along at
+ * every other sample, splitting the face's edge where its neighbours do not. */
+static int redundant_cut(const cb_bool_cuts *cuts, int k, int side, const cb_face *F, double tol)
+{
+    const cb_bool_cut *c = cuts->cut + k;
+    double near = CB_BOOL_SNAP * tol;
+    int on = 1;
+    for (int i = 0; i < c->n && on; i++)
+        on = cb_face_classify_uv(F, c->uv[side][2 * i], c->uv[side][2 * i + 1], near) == CB_FACE_ON;
+    if (on)
+        return 1;
+    if (c->curve < 0)
+        return 0;
+    for (int j = 0; j < cuts->n; j++) {
+        const cb_bool_cut *d = cuts->cut + j;
+        if (d->curve >= 0 || d->face[side] != c->face[side])
+            continue;
+        int along = 1;
+        double pos;
+        for (int i = 0; i < c->n && along; i++)
+            along = cb_bool_cut_project(&pos, d, c->xyz + 3 * i, 0, d->n - 1) <= near;
+        if (along)
+            return 1;
     }
     return 0;
 }
@@ -218,7 +263,7 @@ static cb_status split_face(op_face *of, const split_ctx *sc, int side, int face
     cb_status st = boundary_srcs(of, &cap, F, 0.125 * sc->snap, err);
     for (int k = 0; k < sc->cuts->n && !st; k++) {
         const cb_bool_cut *c = sc->cuts->cut + k;
-        if (c->face[side] != face)
+        if (c->face[side] != face || redundant_cut(sc->cuts, k, side, F, sc->tol))
             continue;
         op_src s = {OP_CUT, k, c->n, c->uv[side]};
         if (push_src(of, &cap, &s))
@@ -263,15 +308,24 @@ static cb_status split_face(op_face *of, const split_ctx *sc, int side, int face
             cb_error_prefix(err, "%s face %d: ", side ? "B" : "A", face);
             break;
         }
+        int flip = 0, keep;
         if (w == CB_BOOL_ON) {
-            st = cb_error_set(err, CB_ERR_UNSUPPORTED,
-                              "%s face %d: a piece lies on the other solid (coincident faces "
-                              "are not handled yet)",
-                              side ? "B" : "A", face);
-            break;
+            double na[3], nb[3];
+            int ok = cb_face_normal(na, F, uv[0], uv[1]) > 0 &&
+                     cb_bool_solid_normal_at(nb, sc->solid[1 - side], X3);
+            double c = ok ? cb_vec3_dot(na, nb) : 0;
+            if (fabs(c) < COINCIDENT_COS) {
+                st = cb_error_set(err, CB_ERR_UNSUPPORTED,
+                                  "%s face %d: a piece touches the other solid at (%.6g, %.6g, "
+                                  "%.6g) where their faces are not coincident",
+                                  side ? "B" : "A", face, X3[0], X3[1], X3[2]);
+                break;
+            }
+            keep = keep_on_piece(sc->op, side, c > 0);
+        } else {
+            keep = keep_piece(sc->op, side, w, &flip);
         }
-        int flip;
-        if (!keep_piece(sc->op, side, w, &flip))
+        if (!keep)
             continue;
         op_region *reg = of->regions + of->n_regions;
         reg->side = side;

@@ -9,6 +9,8 @@
 typedef struct {
     double mid[3]; /* curve point halfway along the piece, to tell edges with equal ends apart */
     int uses;
+    int cut, side, src; /* where its curve comes from: cut index (cut = 1), or the original
+                           edge src of operand side */
 } edge_info;
 
 typedef struct {
@@ -96,10 +98,12 @@ static cb_status copy_surface(cb_topo_surface *dst, const cb_topo_surface *src, 
 /* The edge a piece becomes, with the ends of its traversal and whether it runs along the
  * edge curve. */
 typedef struct {
+    const cb_topo_curve *curve; /* the piece's own curve (the cut's, or the original edge's) */
+    int cut; /* a cut piece: its curve and pcurve are the cut's polyline */
+    int src; /* the cut's index, or the original edge's */
     int v_start, v_end;
     double t_start, t_end; /* edge curve parameters at the traversal's start and end */
     double mid[3];
-    int cut; /* a cut piece: its curve and pcurve are the cut's polyline */
 } piece_geom;
 
 /* Geometry of piece p of region r: the two end vertices (welded) and the parameters. */
@@ -119,6 +123,8 @@ static cb_status piece_ends(piece_geom *g, builder *bd, const op_region *r, cons
         g->t_start = a;
         g->t_end = z;
         g->cut = 1;
+        g->curve = C;
+        g->src = s->index;
     } else {
         const cb_topo_coedge *co = X->coedges + s->index;
         const cb_topo_edge *e = X->edges + co->edge;
@@ -151,6 +157,8 @@ static cb_status piece_ends(piece_geom *g, builder *bd, const op_region *r, cons
         g->t_end = t[1];
         cb_topo_curve_eval(g->mid, C, 0.5 * (t[0] + t[1]));
         g->cut = 0;
+        g->curve = C;
+        g->src = co->edge;
     }
     g->v_start = weld_vertex(bd, pa);
     g->v_end = weld_vertex(bd, pz);
@@ -181,6 +189,10 @@ static cb_status add_coedge(builder *bd, int loop, const op_region *r, const op_
     cb_status pst = piece_ends(&g, bd, r, p, X, inv, err);
     if (pst)
         return pst == CB_ERR_NOMEM ? cb_error_set(err, pst, "bool: out of memory") : pst;
+    /* A piece shorter than the weld distance (two vertices of the face's split closer than
+     * that but farther than the snap) welds into a point: no edge. */
+    if (g.v_start == g.v_end && dist3(g.mid, b->vertices[g.v_start].p) <= bd->weld)
+        return CB_OK;
     int lo = g.t_start < g.t_end ? g.v_start : g.v_end, hi = g.t_start < g.t_end ? g.v_end : g.v_start;
     int edge = -1;
     for (int e = 0; e < b->n_edges && edge < 0; e++)
@@ -217,10 +229,28 @@ static cb_status add_coedge(builder *bd, int loop, const op_region *r, const op_
             return st;
         memcpy(bd->info[edge].mid, g.mid, sizeof g.mid);
         bd->info[edge].uses = 0;
+        bd->info[edge].cut = g.cut;
+        bd->info[edge].side = r->side;
+        bd->info[edge].src = g.src;
     }
-    /* Both pieces sewn into an edge run one curve parameterised alike (the cut's positions,
-     * or the original edge's curve): along the edge when the traversal runs up the curve. */
-    sense = g.t_start < g.t_end;
+    const edge_info *in = bd->info + edge;
+    int own_curve = in->cut == g.cut && in->src == g.src && (g.cut || in->side == r->side);
+    if (own_curve) {
+        /* The edge's curve is this piece's own (the same cut's positions, or the same
+         * original edge's curve): along the edge when the traversal runs up the curve. */
+        sense = g.t_start < g.t_end;
+    } else {
+        /* Sewn onto the curve of another source (a face's edge and the cut a coincident face
+         * drew along it): along the edge when two points of the traversal, a quarter from
+         * each end, project onto the edge's curve in increasing order. */
+        const cb_topo_edge *e = b->edges + edge;
+        double q[3], s1, s2;
+        cb_topo_curve_eval(q, g.curve, g.t_start + 0.25 * (g.t_end - g.t_start));
+        cb_topo_curve_project(&s1, b->curves + e->curve, q, e->t0, e->t1);
+        cb_topo_curve_eval(q, g.curve, g.t_start + 0.75 * (g.t_end - g.t_start));
+        cb_topo_curve_project(&s2, b->curves + e->curve, q, e->t0, e->t1);
+        sense = s1 < s2;
+    }
     bd->info[edge].uses++;
     int co = cb_topo_body_add_coedge(b);
     if (co < 0)
@@ -233,7 +263,10 @@ static cb_status add_coedge(builder *bd, int loop, const op_region *r, const op_
         bd->mid_uv = q;
         bd->cap_mid = cap;
     }
-    if (g.cut)
+    /* A cut piece on the curve it was made from takes the cut's pcurve (the same
+     * parameter); any other piece gets one computed later, lifted to its middle. */
+    int cut_pcurve = g.cut && own_curve;
+    if (cut_pcurve)
         bd->mid_uv[2 * co] = bd->mid_uv[2 * co + 1] = NAN;
     else
         at_pos(bd->mid_uv + 2 * co, s->uv, s->n, 2, 0.5 * (p->pos0 + p->pos1));
@@ -241,7 +274,7 @@ static cb_status add_coedge(builder *bd, int loop, const op_region *r, const op_
     b->coedges[co].sense = sense;
     b->coedges[co].loop = loop;
     b->coedges[co].pcurve = -1;
-    if (g.cut) {
+    if (cut_pcurve) {
         int pc = cb_topo_body_add_pcurve(b);
         if (pc < 0)
             return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
@@ -299,7 +332,249 @@ static cb_status lift_pcurves(builder *bd, cb_error *err)
     return CB_OK;
 }
 
-cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, const op_face *faces, int n_faces,
+/* ---------------------------------------------------------------- T-junctions ------------- */
+
+typedef struct {
+    int face, region, piece; /* where the piece sits */
+    piece_geom g;
+    cb_aabb box; /* of 9 points of its curve, grown by the weld distance */
+    double *split; /* source positions to split at */
+    int n_split, cap_split;
+} piece_rec;
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static int rec_lo(const piece_rec *r) { return r->g.v_start < r->g.v_end ? r->g.v_start : r->g.v_end; }
+static int rec_hi(const piece_rec *r) { return r->g.v_start < r->g.v_end ? r->g.v_end : r->g.v_start; }
+
+static int same_ends(const piece_rec *x, const piece_rec *y)
+{
+    return rec_lo(x) == rec_lo(y) && rec_hi(x) == rec_hi(y);
+}
+
+/* A record's end vertices (lower first) and index, to sort by. */
+typedef struct {
+    int lo, hi, i;
+} rec_key;
+
+static int cmp_rec_key(const void *a, const void *b)
+{
+    const rec_key *x = a, *y = b;
+    if (x->lo != y->lo)
+        return x->lo < y->lo ? -1 : 1;
+    if (x->hi != y->hi)
+        return x->hi < y->hi ? -1 : 1;
+    return (x->i > y->i) - (x->i < y->i);
+}
+
+/* Position along boundary source s between pos a and z whose surface point projects onto the
+ * edge curve C at t (the projection is monotone along the piece): bisection. */
+static double boundary_pos(const op_src *s, const cb_topo_inverter *inv, const cb_topo_curve *C,
+                           const cb_topo_edge *e, double a, double z, double ta, double tz,
+                           double t)
+{
+    for (int it = 0; it < 50; it++) {
+        double m = 0.5 * (a + z), uv[2], q[3], tm;
+        at_pos(uv, s->uv, s->n, 2, m);
+        cb_topo_inverter_eval(q, inv, uv[0], uv[1]);
+        cb_topo_curve_project(&tm, C, q, e->t0, e->t1);
+        if (C->kind == CB_CURVE_CIRCLE || C->kind == CB_CURVE_ELLIPSE) {
+            while (tm < fmin(ta, tz) - 1e-12)
+                tm += 2 * CB_SSI_PI;
+            while (tm > fmax(ta, tz) + 1e-12)
+                tm -= 2 * CB_SSI_PI;
+        }
+        if ((tm < t) == (ta < tz))
+            a = m;
+        else
+            z = m;
+    }
+    return 0.5 * (a + z);
+}
+
+/* Splits region pieces where a vertex of another piece lies inside them (within weld of the
+ * piece's curve, farther than weld from its ends): the two sides of a curve are split at the
+ * same points only when they see the same cuts, which coincident faces break (a face's edge
+ * along a circle that a coincident face's imprint and a third face's curve split at
+ * different points). Each such piece becomes two or more, in traversal order. */
+static cb_status split_t_junctions(builder *bd, op_face *faces, int n_faces,
+                                   const cb_topo_body *A, const cb_topo_body *B, double tol,
+                                   cb_error *err)
+{
+    int n = 0;
+    for (int fi = 0; fi < n_faces; fi++)
+        for (int ri = 0; ri < faces[fi].n_regions; ri++)
+            n += faces[fi].regions[ri].loop_start[faces[fi].regions[ri].n_loops];
+    piece_rec *rec = calloc((size_t)n + 1, sizeof *rec);
+    if (!rec)
+        return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+    cb_status st = CB_OK;
+    int m = 0;
+    /* Pass 1: every piece's end vertices (welded: all vertices exist after it) and box. */
+    for (int fi = 0; fi < n_faces && !st; fi++) {
+        op_face *of = faces + fi;
+        if (!of->n_regions)
+            continue;
+        const cb_topo_body *X = of->side ? B : A;
+        cb_topo_inverter inv;
+        st = cb_topo_inverter_init(&inv, X->surfaces + X->faces[of->face].surface, tol, err);
+        for (int ri = 0; ri < of->n_regions && !st; ri++) {
+            const op_region *r = of->regions + ri;
+            for (int k = 0; k < r->loop_start[r->n_loops] && !st; k++) {
+                if (r->srcs[r->pieces[k].src].kind == OP_JOIN)
+                    continue;
+                piece_geom g;
+                st = piece_ends(&g, bd, r, r->pieces + k, X, &inv, err);
+                if (st) {
+                    st = st == CB_ERR_NOMEM ? cb_error_set(err, st, "bool: out of memory") : st;
+                    break;
+                }
+                if (g.v_start == g.v_end && dist3(g.mid, bd->b->vertices[g.v_start].p) <= bd->weld)
+                    continue; /* welds into a point (add_coedge) */
+                piece_rec *pr = rec + m++;
+                pr->face = fi;
+                pr->region = ri;
+                pr->piece = k;
+                pr->g = g;
+                double q[27];
+                for (int j = 0; j <= 8; j++)
+                    cb_topo_curve_eval(q + 3 * j, g.curve, g.t_start + (g.t_end - g.t_start) * j / 8);
+                cb_aabb_of_points(&pr->box, q, 9, 3);
+                for (int i = 0; i < 3; i++) {
+                    pr->box.lo[i] -= bd->weld;
+                    pr->box.hi[i] += bd->weld;
+                }
+            }
+        }
+        cb_topo_inverter_clear(&inv);
+    }
+    /* Pieces that will sew (another with the same ends and midpoint) stay whole; the others
+     * may be split, at the ends of other unsewn pieces only. */
+    const cb_topo_body *b = bd->b;
+    rec_key *order = malloc((size_t)(m + 1) * sizeof *order);
+    char *lone = calloc((size_t)m + 1, 1), *end_v = calloc((size_t)b->n_vertices + 1, 1);
+    if (!st && (!order || !lone || !end_v))
+        st = cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+    for (int i = 0; i < m && !st; i++)
+        order[i] = (rec_key){rec_lo(rec + i), rec_hi(rec + i), i};
+    if (!st)
+        qsort(order, (size_t)m, sizeof *order, cmp_rec_key);
+    for (int a = 0; a < m && !st; a++) {
+        const piece_rec *x = rec + order[a].i;
+        int paired = 0;
+        for (int z = a - 1; z >= 0 && !paired && same_ends(x, rec + order[z].i); z--)
+            paired = dist3(x->g.mid, rec[order[z].i].g.mid) <= 10 * bd->weld;
+        for (int z = a + 1; z < m && !paired && same_ends(x, rec + order[z].i); z++)
+            paired = dist3(x->g.mid, rec[order[z].i].g.mid) <= 10 * bd->weld;
+        if (!paired) {
+            lone[order[a].i] = 1;
+            end_v[x->g.v_start] = end_v[x->g.v_end] = 1;
+        }
+    }
+    /* Pass 2: the vertices inside each lone piece, as positions along its source. */
+    for (int i = 0; i < m && !st; i++) {
+        piece_rec *pr = rec + i;
+        if (!lone[i])
+            continue;
+        const piece_geom *g = &pr->g;
+        const op_face *of = faces + pr->face;
+        const op_region *r = of->regions + pr->region;
+        const cb_topo_body *X = of->side ? B : A;
+        cb_topo_inverter inv;
+        int have_inv = 0;
+        for (int v = 0; v < b->n_vertices && !st; v++) {
+            const double *P = b->vertices[v].p;
+            if (!end_v[v] || v == g->v_start || v == g->v_end || P[0] < pr->box.lo[0] ||
+                P[0] > pr->box.hi[0] || P[1] < pr->box.lo[1] || P[1] > pr->box.hi[1] ||
+                P[2] < pr->box.lo[2] || P[2] > pr->box.hi[2])
+                continue;
+            double t, lo = fmin(g->t_start, g->t_end), hi = fmax(g->t_start, g->t_end);
+            double d = g->cut ? cb_bool_cut_project(&t, bd->cuts->cut + g->src, P, lo, hi)
+                              : cb_topo_curve_project(&t, g->curve, P, lo, hi);
+            if (g->curve->kind == CB_CURVE_CIRCLE || g->curve->kind == CB_CURVE_ELLIPSE)
+                while (t < lo)
+                    t += 2 * CB_SSI_PI;
+            if (d > bd->weld || !(t > lo && t < hi) ||
+                dist3(P, b->vertices[g->v_start].p) <= bd->weld ||
+                dist3(P, b->vertices[g->v_end].p) <= bd->weld)
+                continue;
+            double pos = t;
+            const op_piece *p = r->pieces + pr->piece;
+            const op_src *s = r->srcs + p->src;
+            if (!g->cut) {
+                if (!have_inv) {
+                    st = cb_topo_inverter_init(&inv, X->surfaces + X->faces[of->face].surface,
+                                               tol, err);
+                    if (st)
+                        break;
+                    have_inv = 1;
+                }
+                double a = p->fwd ? p->pos0 : p->pos1, z = p->fwd ? p->pos1 : p->pos0;
+                const cb_topo_edge *e = X->edges + X->coedges[s->index].edge;
+                pos = boundary_pos(s, &inv, g->curve, e, a, z, g->t_start, g->t_end, t);
+            }
+            if (pr->n_split == pr->cap_split) {
+                int cap = pr->cap_split ? 2 * pr->cap_split : 8;
+                double *q = realloc(pr->split, (size_t)cap * sizeof *q);
+                if (!q) {
+                    st = cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+                    break;
+                }
+                pr->split = q;
+                pr->cap_split = cap;
+            }
+            pr->split[pr->n_split++] = pos;
+        }
+        if (have_inv)
+            cb_topo_inverter_clear(&inv);
+    }
+    free(order);
+    free(lone);
+    free(end_v);
+    /* Replace each split piece by its parts, region by region. */
+    for (int i = 0; i < m && !st; i++) {
+        if (!rec[i].n_split)
+            continue;
+        op_region *r = faces[rec[i].face].regions + rec[i].region;
+        int total = r->loop_start[r->n_loops], add = rec[i].n_split;
+        op_piece *q = realloc(r->pieces, (size_t)(total + add) * sizeof *q);
+        if (!q) {
+            st = cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+            break;
+        }
+        r->pieces = q;
+        int k = rec[i].piece;
+        op_piece p = q[k];
+        memmove(q + k + 1 + add, q + k + 1, (size_t)(total - k - 1) * sizeof *q);
+        /* Positions pos0 < splits (sorted) < pos1; the parts in traversal order. */
+        double *cut = rec[i].split;
+        for (int a = 0; a < add; a++)
+            cut[a] = fmin(fmax(cut[a], p.pos0), p.pos1);
+        qsort(cut, (size_t)add, sizeof *cut, cmp_double);
+        for (int j = 0; j <= add; j++) {
+            int at = p.fwd ? j : add - j;
+            double a = at ? cut[at - 1] : p.pos0, z = at < add ? cut[at] : p.pos1;
+            q[k + j] = (op_piece){p.src, a, z, p.fwd};
+        }
+        for (int l = 0; l <= r->n_loops; l++)
+            if (r->loop_start[l] > k)
+                r->loop_start[l] += add;
+        /* Later records of this region point past the inserted pieces. */
+        for (int j = i + 1; j < m; j++)
+            if (rec[j].face == rec[i].face && rec[j].region == rec[i].region && rec[j].piece > k)
+                rec[j].piece += add;
+    }
+    for (int i = 0; i < m; i++)
+        free(rec[i].split);
+    free(rec);
+    return st;
+}
+
+cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, op_face *faces, int n_faces,
                          const cb_topo_body *A, const cb_topo_body *B, const cb_bool_cuts *cuts,
                          double tol, double weld, cb_error *err)
 {
@@ -329,6 +604,8 @@ cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, const op_face *face
         b->shells[shell].closed = 1;
         b->shells[shell].first = 0;
     }
+    if (!st)
+        st = split_t_junctions(&bd, faces, n_faces, A, B, tol, err);
     for (int fi = 0; fi < n_faces && !st; fi++) {
         const op_face *of = faces + fi;
         if (of->n_regions == 0)

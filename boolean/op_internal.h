@@ -50,9 +50,10 @@ void _cb_bool_face_clear(op_face *f);
 
 /* Builds the result body from the kept regions of every face (sources and cuts as the regions
  * refer to them), sewing pieces into edges by their end vertices (welded within weld) and
- * midpoints. A and B are the operands, cuts the cuts. tol: the body tolerance. *unmatched
+ * midpoints, after splitting pieces at the vertices of other pieces that lie inside them (the
+ * regions' pieces are rewritten). A and B are the operands, cuts the cuts. tol: the body tolerance. *unmatched
  * counts piece ends that found no partner (the result is then not closed). */
-cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, const op_face *faces, int n_faces,
+cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, op_face *faces, int n_faces,
                          const cb_topo_body *A, const cb_topo_body *B, const cb_bool_cuts *cuts,
                          double tol, double weld, cb_error *err);
 

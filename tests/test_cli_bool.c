@@ -132,20 +132,27 @@ static void test_birds(void)
     cb_topo_body_free(U);
 }
 
-/* A Cardan scenario with coincident faces: the operation says it cannot, exit 1, and the
- * report says error. */
+/* A Cardan scenario the Booleans do not handle yet (coplanar faces whose arm circles touch
+ * at a point, cylinders tangent along lines): the operation says it cannot, exit 1, and the
+ * report says error; two crosses with coplanar faces give a result. */
 static void test_unsupported(void)
 {
     char a[600], b[600], out[600], rep[600], args[3000];
-    snprintf(args, sizeof args, "model cardan two_crosses -o %s --out-b %s",
+    snprintf(args, sizeof args, "model cardan crosses_stacked -o %s --out-b %s",
              at(a, sizeof a, "c1.step"), at(b, sizeof b, "c2.step"));
     cli_expect(args, 0, "");
     snprintf(args, sizeof args, "bool union %s %s -o %s --json %s", a, b,
              at(out, sizeof out, "c.stl"), at(rep, sizeof rep, "c.json"));
-    cli_expect(args, 1, "coincident faces");
+    cli_expect(args, 1, "could not be sewn");
     const char *text = slurp(rep);
-    CHECK(text && strstr(text, "\"status\": \"error\"") && strstr(text, "coincident"),
+    CHECK(text && strstr(text, "\"status\": \"error\"") && strstr(text, "could not be sewn"),
           "error report: %s", text ? text : "(none)");
+    snprintf(args, sizeof args, "model cardan two_crosses -o %s --out-b %s",
+             at(a, sizeof a, "c1.step"), at(b, sizeof b, "c2.step"));
+    cli_expect(args, 0, "");
+    snprintf(args, sizeof args, "bool intersection %s %s -o %s --json %s", a, b,
+             at(out, sizeof out, "c.stl"), at(rep, sizeof rep, "c.json"));
+    cli_expect(args, 0, "volume 7.5288");
 }
 
 /* Operands that only touch (the cross's arm lying on the yoke's base along a line): the
@@ -191,7 +198,7 @@ static void test_demo(void)
     const char *svg = slurp(path);
     CHECK(svg && strstr(svg, "<svg") && strstr(svg, "<path fill="), "picture: %.200s",
           svg ? svg : "(none)");
-    snprintf(args, sizeof args, "demo --only two_crosses --out %s", out);
+    snprintf(args, sizeof args, "demo --only crosses_stacked --out %s", out);
     cli_expect(args, 0, "0 ok, 0 WRONG, 6 refused");
     cli_expect("demo --only no_such_scenario", 2, "no scenario name contains");
     cli_expect("demo --bogus", 2, "unknown argument");
