@@ -43,6 +43,24 @@ static double dist3(const double a[3], const double b[3])
                 (a[2] - b[2]) * (a[2] - b[2]));
 }
 
+/* Distance from p to curve c over [t0, t1] (the nearest point of the whole curve, moved to the
+ * nearer end of the range when it falls outside). */
+static double range_distance(const cb_topo_curve *c, double t0, double t1, const double p[3])
+{
+    double t, q[3];
+    cb_topo_curve_project(&t, c, p, t0, t1);
+    if (c->kind == CB_CURVE_CIRCLE || c->kind == CB_CURVE_ELLIPSE) {
+        while (t < t0)
+            t += 2 * CB_SSI_PI;
+        while (t >= t0 + 2 * CB_SSI_PI)
+            t -= 2 * CB_SSI_PI;
+        if (t > t1)
+            t = t - t1 < t0 + 2 * CB_SSI_PI - t ? t1 : t0;
+    }
+    cb_topo_curve_eval(q, c, fmin(t1, fmax(t0, t)));
+    return dist3(q, p);
+}
+
 /* The vertex at p: an existing one within weld (the first found, in creation order), else a
  * new one. -1 when out of memory. */
 static int weld_vertex(builder *bd, const double p[3])
@@ -199,7 +217,8 @@ static cb_status add_coedge(builder *bd, int loop, const op_region *r, const op_
         if (bd->info[e].uses == 1 &&
             ((b->edges[e].v[0] == lo && b->edges[e].v[1] == hi) ||
              (b->edges[e].v[0] == hi && b->edges[e].v[1] == lo)) &&
-            dist3(bd->info[e].mid, g.mid) <= 10 * bd->weld)
+            range_distance(b->curves + b->edges[e].curve, b->edges[e].t0, b->edges[e].t1,
+                           g.mid) <= bd->weld)
             edge = e;
     const op_src *s = r->srcs + p->src;
     int sense;
@@ -356,6 +375,14 @@ static int same_ends(const piece_rec *x, const piece_rec *y)
     return rec_lo(x) == rec_lo(y) && rec_hi(x) == rec_hi(y);
 }
 
+/* Whether p lies within weld of record y's curve (between its ends). */
+static int same_curve(const piece_rec *y, const double p[3], double weld)
+{
+    const piece_geom *g = &y->g;
+    return range_distance(g->curve, fmin(g->t_start, g->t_end), fmax(g->t_start, g->t_end), p) <=
+           weld;
+}
+
 /* A record's end vertices (lower first) and index, to sort by. */
 typedef struct {
     int lo, hi, i;
@@ -467,9 +494,9 @@ static cb_status split_t_junctions(builder *bd, op_face *faces, int n_faces,
         const piece_rec *x = rec + order[a].i;
         int paired = 0;
         for (int z = a - 1; z >= 0 && !paired && same_ends(x, rec + order[z].i); z--)
-            paired = dist3(x->g.mid, rec[order[z].i].g.mid) <= 10 * bd->weld;
+            paired = same_curve(rec + order[z].i, x->g.mid, bd->weld);
         for (int z = a + 1; z < m && !paired && same_ends(x, rec + order[z].i); z++)
-            paired = dist3(x->g.mid, rec[order[z].i].g.mid) <= 10 * bd->weld;
+            paired = same_curve(rec + order[z].i, x->g.mid, bd->weld);
         if (!paired) {
             lone[order[a].i] = 1;
             end_v[x->g.v_start] = end_v[x->g.v_end] = 1;

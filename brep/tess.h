@@ -97,7 +97,8 @@ void cb_tess_edges_clear(cb_tess_edges *es);
  * using the edge through a pcurve, the surface image of the straight (u, v) segment between
  * its ends stays within chord_tol of the chord and the surface normals at its ends differ by
  * at most angle_tol (pieces longer than 2 chord_tol only); closed edges start from three
- * pieces. Needs cb_topo_body_index. CB_ERR_INVALID from the surfaces, CB_ERR_CANCELLED,
+ * pieces, edges joining the same two vertices as another edge from two (so that their meshes
+ * do not share a segment). Needs cb_topo_body_index. CB_ERR_INVALID from the surfaces, CB_ERR_CANCELLED,
  * CB_ERR_NOMEM. */
 cb_status cb_tess_edges_sample(cb_tess_edges *es, const cb_topo_body *b, const cb_tess_opts *o,
                                cb_context *ctx, cb_error *err);

@@ -176,6 +176,41 @@ static int subdivide(tlist *l, const edge_job *j, double ta, double tb, double m
     return tlist_push(l, tb);
 }
 
+static int cmp_pair(const void *a, const void *b)
+{
+    const int *x = a, *y = b;
+    for (int k = 0; k < 3; k++)
+        if (x[k] != y[k])
+            return x[k] < y[k] ? -1 : 1;
+    return 0;
+}
+
+/* parallel[e] = 1 when another edge joins the same two vertices as edge e (two solids touching
+ * along a line, their union's shell touching itself there): sampled with their ends only, the
+ * two would make one mesh edge of four triangles. NULL when out of memory. */
+static char *parallel_edges(const cb_topo_body *b)
+{
+    int *pairs = malloc((size_t)(b->n_edges + 1) * 3 * sizeof(int));
+    char *par = calloc((size_t)b->n_edges + 1, 1);
+    if (!pairs || !par) {
+        free(pairs);
+        free(par);
+        return NULL;
+    }
+    for (int e = 0; e < b->n_edges; e++) {
+        int a = b->edges[e].v[0], c = b->edges[e].v[1];
+        pairs[3 * e] = a < c ? a : c;
+        pairs[3 * e + 1] = a < c ? c : a;
+        pairs[3 * e + 2] = e;
+    }
+    qsort(pairs, (size_t)b->n_edges, 3 * sizeof(int), cmp_pair);
+    for (int k = 1; k < b->n_edges; k++)
+        if (pairs[3 * k] == pairs[3 * k - 3] && pairs[3 * k + 1] == pairs[3 * k - 2])
+            par[pairs[3 * k + 2]] = par[pairs[3 * k - 1]] = 1;
+    free(pairs);
+    return par;
+}
+
 cb_status cb_tess_edges_sample(cb_tess_edges *es, const cb_topo_body *b, const cb_tess_opts *o,
                                cb_context *ctx, cb_error *err)
 {
@@ -184,6 +219,7 @@ cb_status cb_tess_edges_sample(cb_tess_edges *es, const cb_topo_body *b, const c
     es->start = malloc((size_t)(b->n_edges + 1) * sizeof(int));
     tlist all = {0};
     cb_topo_inverter *inv = NULL;
+    char *parallel = NULL;
     int n_inv = 0;
     cb_status st;
     int cap_xyz = b->n_vertices + 16;
@@ -194,6 +230,9 @@ cb_status cb_tess_edges_sample(cb_tess_edges *es, const cb_topo_body *b, const c
         memcpy(es->xyz + 3 * v, b->vertices[v].p, sizeof(double[3]));
     es->n_points = b->n_vertices;
     int cap_ids = 0;
+    parallel = parallel_edges(b);
+    if (!parallel)
+        goto nomem;
     inv = calloc((size_t)b->n_faces + 1, sizeof(cb_topo_inverter));
     if (!inv)
         goto nomem;
@@ -231,7 +270,7 @@ cb_status cb_tess_edges_sample(cb_tess_edges *es, const cb_topo_body *b, const c
                 sc->t1 = fwd ? E->t1 : E->t0;
                 cb_topo_coedge_pcurve_range(&sc->s0, &sc->s1, b, co, sc->inv, tol);
             }
-            int pieces = E->v[0] == E->v[1] ? 3 : 1;
+            int pieces = E->v[0] == E->v[1] ? 3 : parallel[e] ? 2 : 1;
             double min_dt = 1e-9 * (E->t1 - E->t0);
             for (int k = 0; k < pieces; k++) {
                 double ta = E->t0 + (E->t1 - E->t0) * k / pieces;
@@ -274,6 +313,7 @@ nomem:
 fail:
     cb_tess_edges_clear(es);
 done:
+    free(parallel);
     free(all.t);
     for (int f = 0; f < n_inv; f++)
         cb_topo_inverter_clear(&inv[f]);

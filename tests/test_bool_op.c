@@ -229,9 +229,38 @@ static void test_lens_torus(int as_nurbs)
     cb_topo_body_free(X);
 }
 
+/* Why result res is not acceptable (invalid, no volume, or a mesh that is not a closed,
+ * manifold surface free of self-intersections), or NULL when it is. */
+static const char *flaw(cb_topo_body *res, cb_error *err)
+{
+    cb_topo_report r;
+    cb_topo_report_init(&r);
+    cb_status st = cb_topo_validate(&r, res, res->tol, 9, err);
+    int bad = st || r.n;
+    cb_topo_report_clear(&r);
+    if (bad)
+        return "result not valid";
+    cb_mass_props m;
+    if (cb_mass_body(&m, res, 1e-10, NULL, err))
+        return "volume integration fails";
+    cb_mesh_t mesh;
+    cb_mesh_init(mesh);
+    cb_mesh_check_report cr;
+    st = cb_tess_body(mesh, res, NULL, NULL, err);
+    if (!st)
+        st = cb_mesh_check(&cr, mesh, err);
+    cb_mesh_clear(mesh);
+    if (st)
+        return "no mesh";
+    if (!cr.closed || !cr.edge_manifold || !cr.vertex_manifold || cr.self_intersections)
+        return "mesh not a closed manifold free of self-intersections";
+    return NULL;
+}
+
 /* The Cardan scenarios (models/README.md), analytic or exact rational B-spline faces, volumes
  * from their closed forms. ops: which of union, intersection, A - B, B - A are expected to
- * give a result (bits 0..3); the others must fail with a message, not a solid. The scenarios
+ * give a result (bits 0..3); the others, known gaps, must fail with a message or give a result
+ * that a check rejects, never one that passes as right. The scenarios
  * cover a cylinder cut into a plane, coincident planes (two crosses: the cubes' top and
  * bottom), coincident cylinders (the cross's arms in the yoke's bores), a cylinder lying on a
  * plane along a line. */
@@ -263,10 +292,13 @@ static void test_cardan_scenario(const char *scenario, int as_nurbs, unsigned op
             } else {
                 cb_topo_body *res = NULL;
                 st = cb_bool_run(&res, NULL, op[k], X, Y, NULL, NULL, &err);
-                CHECK(st != CB_OK && !res && err.msg[0], "%s %s%s: a result where a message was "
-                      "expected", name, cb_bool_op_name(op[k]), k == 3 ? " (B - A)" : "");
-                if (st)
-                    printf("%-22s %-12s refused: %s\n", name, cb_bool_op_name(op[k]), err.msg);
+                const char *why = st ? err.msg : flaw(res, &err);
+                CHECK(why != NULL, "%s %s%s: a result that passes every check, where a known gap "
+                      "was expected (move it to the handled operations)",
+                      name, cb_bool_op_name(op[k]), k == 3 ? " (B - A)" : "");
+                if (why)
+                    printf("%-22s %-12s %s: %s\n", name, cb_bool_op_name(op[k]),
+                           st ? "refused" : "flagged", why);
                 cb_topo_body_free(res);
             }
         }
@@ -279,9 +311,11 @@ static void test_cardan(int as_nurbs)
 {
     test_cardan_scenario("cross_into_base", as_nurbs, 0xf);
     test_cardan_scenario("two_crosses", as_nurbs, 0xf);
-    test_cardan_scenario("cross_in_yoke", as_nurbs, as_nurbs ? 0xe : 0xf);
-    test_cardan_scenario("cross_through_yoke", as_nurbs, 0xe);
-    test_cardan_scenario("crosses_stacked", as_nurbs, 0);
+    test_cardan_scenario("cross_in_yoke", as_nurbs, 0xf);
+    test_cardan_scenario("cross_through_yoke", as_nurbs, 0xf);
+    /* Arms tangent along lines, arm circles touching at points on coplanar faces: the union
+     * is not a manifold solid (a known gap). */
+    test_cardan_scenario("crosses_stacked", as_nurbs, 0xe);
     /* The cylinder lying on the plane: A u B touches itself along the line. */
     touching_curve = 1;
     test_cardan_scenario("cross_on_base", as_nurbs, 0xf);
