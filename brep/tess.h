@@ -11,9 +11,10 @@
  * until the surface lies within the chordal tolerance of every triangle (at its centroid and
  * the midpoints of its inner sides) and the surface normals at its corners and centroid lie
  * within the angular tolerance of its normal. A triangle side joining two samples of one edge
- * that are not neighbours along it is split too, whatever the tolerances: the face across the
- * edge could join the same two samples, and that segment would border four triangles (two
- * faces hugging a curved edge from its concave side do). Boundary samples are never moved or
+ * that are not neighbours along it, or two vertices that an edge of other faces joins, is
+ * split too, whatever the tolerances: another face could have the same segment, which would
+ * then border four triangles (two faces hugging a curved edge from its concave side; three
+ * faces around a short edge of two). Boundary samples are never moved or
  * added to, so refinement cannot break watertightness.
  *
  * Special places. A seam edge (used twice by one face) has its samples on both sides of the

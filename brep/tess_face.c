@@ -305,7 +305,7 @@ static int sample_edge(const face_work *w, int g, int *pos)
 }
 
 /* Whether the segment between shared samples a and b joins two samples of one edge of the
- * face that are not neighbours along it. The face on the edge's other side holds both samples
+ * face that are not neighbours along it, or two vertices an edge of another face joins. The face on the edge's other side holds both samples
  * too and may join them the same way: two faces' triangles would then share that segment, an
  * edge of four triangles in the body's mesh (seen where two faces hug a curved edge from its
  * concave side). */
@@ -323,15 +323,18 @@ static int same_edge_chord(const face_work *w, int a, int b)
         return (es->ids[es->start[e]] == v && pos > 1) ||
                (es->ids[es->start[e + 1] - 1] == v && pos < m - 2);
     }
-    const cb_topo_face *F = &w->b->faces[w->face];
-    for (int l = 0; l < F->count; l++) {
-        const cb_topo_loop *lp = &w->b->loops[F->first + l];
-        for (int k = 0; k < lp->count; k++) {
-            int e = w->b->coedges[lp->first + k].edge;
-            int x = es->ids[es->start[e]], y = es->ids[es->start[e + 1] - 1];
-            if (es->start[e + 1] - es->start[e] > 2 && ((x == a && y == b) || (x == b && y == a)))
-                return 1;
-        }
+    /* Two vertices: joined by an edge of this face sampled in more than one piece, or by an
+     * edge of other faces at all (sampled as this one segment, it would be that edge). */
+    const cb_topo_body *B = w->b;
+    for (int e = 0; e < B->n_edges; e++) {
+        int x = B->edges[e].v[0], y = B->edges[e].v[1];
+        if (!((x == a && y == b) || (x == b && y == a)))
+            continue;
+        int mine = 0;
+        for (int k = B->edge_start[e]; k < B->edge_start[e + 1] && !mine; k++)
+            mine = B->loops[B->coedges[B->edge_coedges[k]].loop].face == w->face;
+        if (!mine || es->start[e + 1] - es->start[e] > 2)
+            return 1;
     }
     return 0;
 }

@@ -368,6 +368,63 @@ static void test_birds(void)
     cb_topo_body_free(B);
 }
 
+/* The birds posed as in the paper's Fig. 12 (B turned 40 degrees about a tilted axis, wings
+ * lowered to 5 degrees: bodies, wings and tails cross at shallow angles). Intersection and
+ * difference: valid, meshes pass, V(A - B) = V(A) - V(A n B). The union's B-rep volume obeys
+ * inclusion-exclusion, but its mesh crosses itself where two faces meet at a very small
+ * dihedral angle (a known gap: caught by the mesh check). */
+static void test_birds_fig12(void)
+{
+    cb_hummingbird_params pa, pb;
+    cb_hummingbird_params_default(&pa);
+    cb_hummingbird_params_default(&pb);
+    pb.wing_angle_deg = 5;
+    pb.axis[0] = 0.2;
+    pb.axis[1] = 0.3;
+    pb.axis[2] = 1;
+    pb.angle_deg = 40;
+    pb.translate[0] = 0.4;
+    pb.translate[1] = 0.25;
+    pb.translate[2] = 0.15;
+    cb_topo_body *A = NULL, *B = NULL;
+    cb_error err;
+    cb_status st = cb_model_hummingbird(&A, &pa, &err);
+    if (!st)
+        st = cb_model_hummingbird(&B, &pb, &err);
+    if (!st)
+        st = cb_topo_compute_pcurves(A, A->tol, &err);
+    if (!st)
+        st = cb_topo_compute_pcurves(B, B->tol, &err);
+    CHECK(st == CB_OK, "hummingbird: %s", err.msg);
+    if (!st) {
+        cb_mass_props ma, mb;
+        cb_mass_body(&ma, A, 1e-10, NULL, &err);
+        cb_mass_body(&mb, B, 1e-10, NULL, &err);
+        double vi = NAN, vd = NAN;
+        check_op("birds, Fig. 12 pose", CB_BOOL_INTERSECTION, A, B, -1, 0, &vi);
+        check_op("birds, Fig. 12 pose", CB_BOOL_DIFFERENCE, A, B, -1, 0, &vd);
+        CHECK(fabs(vd - (ma.volume - vi)) <= 1e-6 * ma.volume,
+              "birds, Fig. 12 pose: V(A - B) %.10g, V(A) - V(A n B) %.10g", vd, ma.volume - vi);
+        cb_topo_body *res = NULL;
+        st = cb_bool_run(&res, NULL, CB_BOOL_UNION, A, B, NULL, NULL, &err);
+        CHECK(st == CB_OK, "birds, Fig. 12 pose union: %s", err.msg);
+        if (!st) {
+            cb_mass_props mu;
+            CHECK(cb_mass_body(&mu, res, 1e-10, NULL, &err) == CB_OK &&
+                      fabs(mu.volume + vi - ma.volume - mb.volume) <= 1e-6 * ma.volume,
+                  "birds, Fig. 12 pose: V(A u B) + V(A n B) - V(A) - V(B) = %.3g",
+                  mu.volume + vi - ma.volume - mb.volume);
+            const char *why = flaw(res, &err);
+            CHECK(why != NULL, "birds, Fig. 12 pose union: passes every check now; make it a "
+                               "handled case");
+            printf("birds, Fig. 12 pose   union        flagged: %s\n", why ? why : "-");
+        }
+        cb_topo_body_free(res);
+    }
+    cb_topo_body_free(A);
+    cb_topo_body_free(B);
+}
+
 /* Same body, bit for bit: counts, vertices, edge ranges. */
 static int same_body(const cb_topo_body *x, const cb_topo_body *y)
 {
@@ -476,7 +533,9 @@ int main(int argc, char **argv)
         test_cardan(0);
         test_cardan(1);
     }
-    if (!only || !strcmp(only, "birds"))
+    if (!only || !strcmp(only, "birds")) {
         test_birds();
+        test_birds_fig12();
+    }
     return check_report("test_bool_op");
 }
