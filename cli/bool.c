@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include "boolean/bool.h"
+#include "brep/mesh_check.h"
+#include "brep/tess.h"
 #include "cli/commands.h"
 #include "cli/result.h"
 #include "io/json.h"
@@ -38,6 +40,9 @@ static const char BOOL_USAGE[] =
     "\n"
     "An empty result (operands that do not overlap, or only touch) is valid, with volume 0: a\n"
     "mesh file gets no triangle, and no STEP file is written (STEP has no empty solid).\n"
+    "\n"
+    "Each operand's surface is first meshed and checked by CGAL: one that crosses itself is\n"
+    "refused (exit 2), since inside and outside mean nothing there.\n"
     "\n"
     "Exit status: 0 a valid closed result was written, 1 the operation failed or its result\n"
     "is not valid (the message says why), 2 bad usage or an operand that cannot be read.\n"
@@ -156,6 +161,24 @@ static int finish(report *rep, cb_topo_body *res, const char *out, int quiet, cb
     return code;
 }
 
+/* Whether body b's surface crosses itself, by its mesh (default tolerances) and CGAL: 1 with
+ * the reason in msg, 0 when it does not or cannot be told (a body that cannot be meshed is
+ * left to cb_bool_run's own checks). */
+static int crosses_itself(const cb_topo_body *b, cb_context *ctx, char *msg, size_t n)
+{
+    cb_error err;
+    cb_mesh_t mesh;
+    cb_mesh_init(mesh);
+    cb_mesh_check_report r;
+    int bad = !cb_tess_body(mesh, b, NULL, ctx, &err) && !cb_mesh_check(&r, mesh, &err) &&
+              r.self_intersections == 1;
+    if (bad)
+        snprintf(msg, n, "its surface crosses itself (the CGAL check of its %d-triangle mesh)",
+                 r.triangles);
+    cb_mesh_clear(mesh);
+    return bad;
+}
+
 int cb_cli_bool(int argc, char **argv)
 {
     const char *files[2] = {NULL, NULL}, *out = NULL, *json = NULL, *opname = NULL;
@@ -234,6 +257,18 @@ int cb_cli_bool(int argc, char **argv)
         ctx.progress = cb_cli_progress;
         ctx.user = &shown;
     }
+    /* A Boolean needs solids whose boundaries do not cross themselves: inside and outside
+     * mean nothing otherwise, and the result would be silently wrong. */
+    for (int k = 0; k < 2; k++) {
+        char why[160];
+        if (crosses_itself(body[k], &ctx, why, sizeof why)) {
+            fprintf(stderr, "colibri: bool: operand %c (%s): %s\n", "AB"[k], files[k], why);
+            cb_topo_body_free(body[0]);
+            cb_topo_body_free(body[1]);
+            return 2;
+        }
+    }
+    cb_context_progress_reset(&ctx);
     cb_bool_opts o;
     cb_bool_opts_init(&o);
     o.tol = tol;

@@ -269,6 +269,18 @@ static poly sliver(void)
     return p;
 }
 
+/* The octahedron with its top apex pulled through the equator to (0.5, 0.5, -0.5): closed,
+ * manifold, consistently oriented, positive volume (1/3), but its upper faces cross the lower
+ * ones. */
+static poly crossed_octahedron(void)
+{
+    poly p = octahedron();
+    p.v[12] = 0.5;
+    p.v[13] = 0.5;
+    p.v[14] = -0.5;
+    return p;
+}
+
 /* A torus (radii 3 and 1) of m x n quads, each split into two triangles: 2mn planar faces,
  * 3mn edges, mn vertices. */
 static poly torus(int m, int n)
@@ -736,7 +748,9 @@ static void test_scale(void)
 static void test_defective_models(void)
 {
     printf("open shells and degenerate faces\n");
-    poly o = octahedron(), s = sliver();
+    poly o = octahedron(), s = sliver(), x = crossed_octahedron();
+    write_step("crossed.step", &x, 1, 1e-7, 0, -1);
+    poly_free(&x);
     write_step("open_solid.step", &o, 1, 1e-7, 0, 0);
     write_step("open_shell.step", &o, 1, 1e-7, 1, 0);
     write_step("sliver.step", &s, 1, 1e-7, 0, -1);
@@ -759,6 +773,14 @@ static void test_defective_models(void)
                "edge");
     EXPECT_ERR(2, "bool union bird.step open_shell.step -o b.stl", "operand B",
                "not a solid's");
+    /* A solid whose surface crosses itself: the topology validator cannot see it, the mesh
+     * check does, and a Boolean refuses it rather than compute a meaningless result. */
+    EXPECT_OUT(0, "info crossed.step", "8 faces", "valid");
+    EXPECT_OUT(1, "mesh crossed.step -o crossed.stl", "self-intersections: yes", "result: FAIL");
+    EXPECT_ERR(2, "bool union crossed.step bird.step -o b.stl", "operand A (crossed.step)",
+               "crosses itself");
+    EXPECT_ERR(2, "bool difference bird.step crossed.step -o b.stl", "operand B",
+               "crosses itself");
     /* Validation reports it, so the model is known bad before meshing. */
     EXPECT_OUT(1, "info sliver.step", "validation (tolerance 1e-07): 1 problem",
                "face 9: degenerate, its loops span no area");
