@@ -11,7 +11,6 @@
 #include <unistd.h>
 
 #include "boolean/bool.h"
-#include "brep/mass.h"
 #include "cli/commands.h"
 #include "cli/result.h"
 #include "io/mesh.h"
@@ -47,71 +46,11 @@ static const char DEMO_USAGE[] =
     "Exit status: 0 no row is WRONG (refused rows are counted in the summary), 1 some row is\n"
     "WRONG or a scenario could not be built, 2 bad usage or DIR cannot be made.\n";
 
-typedef struct {
-    char name[64];
-    int cardan; /* scenario index, or -1 for the birds */
-    int nurbs;
-} scenario;
-
-typedef struct {
-    cb_topo_body *a, *b;
-    double ref[3], bar[3]; /* union, intersection, difference */
-} loaded;
-
 static double seconds_now(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-static cb_status load_birds(loaded *L, cb_context *ctx, cb_error *err)
-{
-    cb_hummingbird_params pa, pb;
-    cb_hummingbird_pair(&pa, &pb);
-    cb_status st = cb_model_hummingbird(&L->a, &pa, err);
-    if (!st)
-        st = cb_model_hummingbird(&L->b, &pb, err);
-    if (!st)
-        st = cb_topo_compute_pcurves(L->a, L->a->tol, err);
-    if (!st)
-        st = cb_topo_compute_pcurves(L->b, L->b->tol, err);
-    cb_mass_props ma, mb;
-    if (!st)
-        st = cb_mass_body(&ma, L->a, CB_MASS_REL_TOL, ctx, err);
-    if (!st)
-        st = cb_mass_body(&mb, L->b, CB_MASS_REL_TOL, ctx, err);
-    if (st)
-        return st;
-    const cb_overlap_estimate *e = &cb_hummingbird_pair_reference;
-    L->ref[0] = ma.volume + mb.volume - e->volume_ab;
-    L->ref[1] = e->volume_ab;
-    L->ref[2] = ma.volume - e->volume_ab;
-    for (int k = 0; k < 3; k++)
-        L->bar[k] = 3 * e->sigma_ab;
-    return CB_OK;
-}
-
-static cb_status load_cardan(loaded *L, int k, int nurbs, cb_error *err)
-{
-    cb_cardan_scenario s;
-    cb_cardan_volumes v;
-    cb_status st = cb_cardan_scenario_get(&s, k, err);
-    s.a.as_nurbs = s.b.as_nurbs = nurbs;
-    if (!st)
-        st = cb_cardan_scenario_volumes(&v, &s, err);
-    if (!st)
-        st = cb_model_cardan(&L->a, &s.a, err);
-    if (!st)
-        st = cb_model_cardan(&L->b, &s.b, err);
-    if (st)
-        return st;
-    L->ref[0] = v.a_union_b;
-    L->ref[1] = v.a_inter_b;
-    L->ref[2] = v.a_minus_b;
-    for (int k = 0; k < 3; k++)
-        L->bar[k] = 1e-6 * L->ref[k] + 1e-9 * (v.a + v.b);
-    return CB_OK;
 }
 
 /* Writes the mesh as STL, OBJ and SVG under dir; 0 or -1 with the reason in err. */
@@ -134,7 +73,7 @@ typedef struct {
     int ok, wrong, refused;
 } tally;
 
-static void run_op(tally *t, const scenario *sc, const loaded *L, int opk, const char *dir,
+static void run_op(tally *t, const cb_model_scenario *L, int opk, const char *dir,
                    cb_context *ctx)
 {
     static const cb_bool_op ops[3] = {CB_BOOL_UNION, CB_BOOL_INTERSECTION, CB_BOOL_DIFFERENCE};
@@ -146,7 +85,7 @@ static void run_op(tally *t, const scenario *sc, const loaded *L, int opk, const
     double t0 = seconds_now();
     cb_status st = cb_bool_run(&res, &stats, ops[opk], L->a, L->b, NULL, ctx, &err);
     double t_bool = seconds_now() - t0;
-    printf("%-26s %-12s ", sc->name, op);
+    printf("%-26s %-12s ", L->name, op);
     if (st) {
         printf("%13s %13s %9s %8s %-16s %7.2f  refused: %s\n", "-", "-", "-", "-", "-", t_bool,
                err.msg);
@@ -174,7 +113,7 @@ static void run_op(tally *t, const scenario *sc, const loaded *L, int opk, const
                       : !mesh_ok ? "mesh check failed"
                       : !in_bar  ? "volume outside the error bar"
                                  : NULL;
-    if (r.mesh_done && r.triangles > 0 && write_outputs(dir, sc->name, op, mesh, &err) && !why)
+    if (r.mesh_done && r.triangles > 0 && write_outputs(dir, L->name, op, mesh, &err) && !why)
         why = err.msg;
     printf("%13.9g %13.9g %9.2e %8.1e %-16s %7.2f  %s%s\n", r.volume, ref, rel, L->bar[opk], mesh_txt,
            seconds_now() - t0, why ? "WRONG: " : "ok", why ? why : "");
@@ -227,38 +166,20 @@ int cb_cli_demo(int argc, char **argv)
             return 2;
         }
     }
-    int n_cardan = cb_cardan_scenario_count();
-    scenario *list = calloc((size_t)(1 + 2 * n_cardan), sizeof *list);
-    if (!list) {
-        fprintf(stderr, "colibri: demo: out of memory\n");
-        return 1;
+    int n = cb_model_scenario_count(), selected = 0;
+    for (int k = 0; k < n; k++) {
+        char name[64];
+        cb_error e;
+        selected += !cb_model_scenario_name(name, sizeof name, k, &e) &&
+                    (!only || strstr(name, only) != NULL);
     }
-    int n = 0;
-    snprintf(list[n].name, sizeof list[n].name, "hummingbirds");
-    list[n++].cardan = -1;
-    for (int nurbs = 0; nurbs < 2; nurbs++)
-        for (int k = 0; k < n_cardan; k++) {
-            cb_cardan_scenario s;
-            cb_error e;
-            if (cb_cardan_scenario_get(&s, k, &e))
-                continue;
-            snprintf(list[n].name, sizeof list[n].name, "%s%s", s.name, nurbs ? "_nurbs" : "");
-            list[n].cardan = k;
-            list[n++].nurbs = nurbs;
-        }
-    int selected = 0;
-    for (int k = 0; k < n; k++)
-        selected += !only || strstr(list[k].name, only) != NULL;
     if (!selected) {
         fprintf(stderr, "colibri: demo: no scenario name contains '%s'\n", only);
-        free(list);
         return 2;
     }
     int code = make_dir(dir);
-    if (code) {
-        free(list);
+    if (code)
         return code;
-    }
     cb_context ctx;
     cb_context_init(&ctx);
     ctx.threads = threads;
@@ -273,23 +194,21 @@ int cb_cli_demo(int argc, char **argv)
     int failed_builds = 0;
     double t0 = seconds_now();
     for (int k = 0; k < n; k++) {
-        const scenario *sc = list + k;
-        if (only && !strstr(sc->name, only))
-            continue;
-        loaded L;
-        memset(&L, 0, sizeof L);
+        char name[64];
         cb_error err;
         cb_error_clear(&err);
-        cb_status st = sc->cardan < 0 ? load_birds(&L, &ctx, &err)
-                                      : load_cardan(&L, sc->cardan, sc->nurbs, &err);
+        if (cb_model_scenario_name(name, sizeof name, k, &err) || (only && !strstr(name, only)))
+            continue;
+        cb_model_scenario L;
+        cb_status st = cb_model_scenario_load(&L, k, &err);
         if (st) {
-            printf("%-26s cannot be built: %s\n", sc->name, err.msg);
+            printf("%-26s cannot be built: %s\n", name, err.msg);
             failed_builds++;
+            continue;
         }
-        for (int op = 0; op < 3 && !st; op++)
-            run_op(&t, sc, &L, op, dir, &ctx);
-        cb_topo_body_free(L.a);
-        cb_topo_body_free(L.b);
+        for (int op = 0; op < 3; op++)
+            run_op(&t, &L, op, dir, &ctx);
+        cb_model_scenario_clear(&L);
     }
     if (shown >= 0)
         fputc('\n', stderr);
@@ -298,6 +217,5 @@ int cb_cli_demo(int argc, char **argv)
            "in %s/\n",
            t.ok, t.wrong, t.refused, failed_builds, failed_builds == 1 ? "" : "s",
            seconds_now() - t0, dir);
-    free(list);
     return t.wrong || failed_builds ? 1 : 0;
 }

@@ -236,4 +236,34 @@ cb_status cb_cardan_scenario_volumes(cb_cardan_volumes *v, const cb_cardan_scena
  * caller releases with free(); CB_ERR_NOMEM leaves it NULL. */
 cb_status cb_cardan_reference_json(char **out, cb_error *err);
 
+/* ---------------------------------------------------------------- scenarios ---------------- */
+
+/* Error bars of the closed-form references (absolute): this fraction of the reference plus
+ * CB_SCENARIO_ABS_BAR of V(A) + V(B) (so that an empty result has a bar too). */
+#define CB_SCENARIO_REL_BAR 1e-6
+#define CB_SCENARIO_ABS_BAR 1e-9
+
+/* A shipped Boolean scenario loaded: its two operands (indexed, a pcurve on every coedge) and
+ * the reference volumes of A u B, A n B and A - B with their absolute error bars. */
+typedef struct {
+    char name[64];
+    cb_topo_body *a, *b;
+    double ref[3], bar[3]; /* union, intersection, difference */
+    const char *source;    /* where the references come from */
+} cb_model_scenario;
+
+/* The scenarios, numbered 0 .. count - 1: 0 the two hummingbirds (cb_hummingbird_pair;
+ * references: V(A), V(B) by brep/mass.h and V(A n B) from cb_hummingbird_pair_reference, bars
+ * three of its standard deviations), then the Cardan scenarios with analytic faces, then the
+ * same with B-spline faces (names with "_nurbs"; closed forms of cb_cardan_scenario_volumes). */
+int cb_model_scenario_count(void);
+
+/* The name of scenario k (at most 63 characters). CB_ERR_INVALID for k out of range. */
+cb_status cb_model_scenario_name(char *name, size_t n, int k, cb_error *err);
+
+/* Builds scenario k into s (replaced; release with cb_model_scenario_clear). Errors of the
+ * generators, CB_ERR_INVALID for k out of range. */
+cb_status cb_model_scenario_load(cb_model_scenario *s, int k, cb_error *err);
+void cb_model_scenario_clear(cb_model_scenario *s);
+
 #endif

@@ -615,6 +615,39 @@ static void test_estimate_birds(void)
     cb_topo_body_free(b);
 }
 
+/* The scenario list the demo and the benchmarks share: names, bad indices, references. */
+static void test_scenarios(void)
+{
+    int n = cb_model_scenario_count();
+    CHECK(n == 1 + 2 * cb_cardan_scenario_count(), "%d scenarios", n);
+    char name[64];
+    cb_error err;
+    CHECK(!cb_model_scenario_name(name, sizeof name, 0, &err) && !strcmp(name, "hummingbirds"),
+          "scenario 0: %s", name);
+    CHECK(!cb_model_scenario_name(name, sizeof name, n - 1, &err) &&
+              strstr(name, "_nurbs") != NULL,
+          "last scenario: %s", name);
+    CHECK(cb_model_scenario_name(name, sizeof name, n, &err) == CB_ERR_INVALID, "index %d taken",
+          n);
+    cb_model_scenario s;
+    CHECK(cb_model_scenario_load(&s, -1, &err) == CB_ERR_INVALID && !s.a && !s.b,
+          "index -1 loaded");
+    cb_status st = cb_model_scenario_load(&s, 1 + cb_cardan_scenario_count(), &err);
+    CHECK(st == CB_OK && s.a && s.b, "first NURBS scenario: %s", err.msg);
+    if (!st) {
+        cb_cardan_scenario c;
+        cb_cardan_volumes v;
+        cb_cardan_scenario_get(&c, 0, &err);
+        cb_cardan_scenario_volumes(&v, &c, &err);
+        CHECK(s.ref[0] == v.a_union_b && s.ref[1] == v.a_inter_b && s.ref[2] == v.a_minus_b,
+              "%s: references", s.name);
+        CHECK(s.a->surfaces[0].kind == CB_SURFACE_NURBS, "%s: faces not B-splines", s.name);
+        CHECK(fabs(s.bar[0] - (1e-6 * v.a_union_b + 1e-9 * (v.a + v.b))) <= 1e-15 * v.a_union_b,
+              "%s: bar %g", s.name, s.bar[0]);
+    }
+    cb_model_scenario_clear(&s);
+}
+
 static void test_command(void)
 {
     char path[256], args[512];
@@ -658,6 +691,7 @@ int main(void)
     test_bad_params();
     test_estimate_spheres();
     test_estimate_birds();
+    test_scenarios();
     test_command();
     printf("models tests: %.2f s\n", seconds() - t0);
     return check_report("models");

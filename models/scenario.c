@@ -1,0 +1,99 @@
+/* scenario.c — the shipped Boolean scenarios as loaded operands with reference volumes
+ * (cb_model_scenario_* in models.h). */
+#include <stdio.h>
+#include <string.h>
+
+#include "brep/mass.h"
+#include "models/models.h"
+
+int cb_model_scenario_count(void)
+{
+    return 1 + 2 * cb_cardan_scenario_count();
+}
+
+static cb_status load_birds(cb_model_scenario *s, cb_error *err)
+{
+    cb_hummingbird_params pa, pb;
+    cb_hummingbird_pair(&pa, &pb);
+    cb_status st = cb_model_hummingbird(&s->a, &pa, err);
+    if (!st)
+        st = cb_model_hummingbird(&s->b, &pb, err);
+    if (!st)
+        st = cb_topo_compute_pcurves(s->a, s->a->tol, err);
+    if (!st)
+        st = cb_topo_compute_pcurves(s->b, s->b->tol, err);
+    cb_mass_props ma, mb;
+    if (!st)
+        st = cb_mass_body(&ma, s->a, CB_MASS_REL_TOL, NULL, err);
+    if (!st)
+        st = cb_mass_body(&mb, s->b, CB_MASS_REL_TOL, NULL, err);
+    if (st)
+        return st;
+    const cb_overlap_estimate *e = &cb_hummingbird_pair_reference;
+    s->ref[0] = ma.volume + mb.volume - e->volume_ab;
+    s->ref[1] = e->volume_ab;
+    s->ref[2] = ma.volume - e->volume_ab;
+    for (int k = 0; k < 3; k++)
+        s->bar[k] = 3 * e->sigma_ab;
+    s->source = "estimate by vertical lines, 3 standard deviations";
+    return CB_OK;
+}
+
+static cb_status load_cardan(cb_model_scenario *s, int k, int nurbs, cb_error *err)
+{
+    cb_cardan_scenario c;
+    cb_cardan_volumes v;
+    cb_status st = cb_cardan_scenario_get(&c, k, err);
+    c.a.as_nurbs = c.b.as_nurbs = nurbs;
+    if (!st)
+        st = cb_cardan_scenario_volumes(&v, &c, err);
+    if (!st)
+        st = cb_model_cardan(&s->a, &c.a, err);
+    if (!st)
+        st = cb_model_cardan(&s->b, &c.b, err);
+    if (st)
+        return st;
+    s->ref[0] = v.a_union_b;
+    s->ref[1] = v.a_inter_b;
+    s->ref[2] = v.a_minus_b;
+    for (int j = 0; j < 3; j++)
+        s->bar[j] = CB_SCENARIO_REL_BAR * s->ref[j] + CB_SCENARIO_ABS_BAR * (v.a + v.b);
+    s->source = "closed form";
+    return CB_OK;
+}
+
+cb_status cb_model_scenario_name(char *name, size_t n, int k, cb_error *err)
+{
+    int nc = cb_cardan_scenario_count();
+    if (k < 0 || k >= 1 + 2 * nc)
+        return cb_error_set(err, CB_ERR_INVALID, "scenario %d: not in 0 .. %d", k, 2 * nc);
+    if (k == 0) {
+        snprintf(name, n, "hummingbirds");
+        return CB_OK;
+    }
+    cb_cardan_scenario c;
+    cb_status st = cb_cardan_scenario_get(&c, (k - 1) % nc, err);
+    if (!st)
+        snprintf(name, n, "%s%s", c.name, k > nc ? "_nurbs" : "");
+    return st;
+}
+
+cb_status cb_model_scenario_load(cb_model_scenario *s, int k, cb_error *err)
+{
+    memset(s, 0, sizeof *s);
+    cb_status st = cb_model_scenario_name(s->name, sizeof s->name, k, err);
+    if (st)
+        return st;
+    int nc = cb_cardan_scenario_count();
+    st = k == 0 ? load_birds(s, err) : load_cardan(s, (k - 1) % nc, k > nc, err);
+    if (st)
+        cb_model_scenario_clear(s);
+    return st;
+}
+
+void cb_model_scenario_clear(cb_model_scenario *s)
+{
+    cb_topo_body_free(s->a);
+    cb_topo_body_free(s->b);
+    memset(s, 0, sizeof *s);
+}
