@@ -196,6 +196,12 @@ int cb_cli_ssi(int argc, char **argv)
             printf("not certified    ... %ld more (see --json)\n", (long)r->n_failed - 20);
     }
     if (st == CB_OK) {
+        slong nomem = 0;
+        for (slong k = 0; k < r->n_failed; k++)
+            nomem += r->failed[k].status == CB_ERR_NOMEM;
+        if (nomem)
+            fprintf(stderr, "colibri ssi: out of memory in %ld face pair%s (not certified)\n",
+                    (long)nomem, nomem == 1 ? "" : "s");
         if (r->n_failed > 0)
             rc = 1;
         if (json && !write_json(json, r, t2 - t1))

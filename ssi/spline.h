@@ -179,6 +179,7 @@ typedef struct {
     int no_direction;          /* uncertified ones without a proved direction e */
     int many_branches;         /* uncertified ones with more than one branch */
     int march_failed;          /* branches whose marching did not converge (reported uncertified) */
+    int nomem;                 /* 1: memory ran out, the pair stopped (reported uncertified) */
 } _cb_ssi_spline_stats;
 
 /* The intersection of the Bezier patches P and Q, polynomial or rational (certified as above):

@@ -79,13 +79,15 @@ static void bp_zero(bpoly *p, int a, int b)
  * N / w^3 (the constant factors m, n of the derivatives dropped, as they are positive), so N
  * points along every normal of the patch, which is what the direction test needs. Out:
  * 3 (3m)(3n) intervals, coefficient (k, l) at 3 (k (3n) + l). */
-static void rational_normals(_cb_iv *out, const _cb_iv *H, int m, int n)
+static int rational_normals(_cb_iv *out, const _cb_iv *H, int m, int n)
 {
     bpoly P[4], Pu[4], Pv[4], C[1], N[1];
     /* One arena: 12 factors of at most (m + 1)(n + 1) coefficients, C of at most
      * (2m + 1)(2n + 1), N of (3m)(3n). */
     size_t fs = (size_t)((m + 1) * (n + 1)), cs = (size_t)((2 * m + 1) * (2 * n + 1));
     _cb_iv *arena = malloc((12 * fs + cs + (size_t)(9 * m * n)) * sizeof(_cb_iv));
+    if (!arena)
+        return -1;
     for (int q = 0; q < 4; q++) {
         P[q].c = arena + (size_t)q * fs;
         Pu[q].c = arena + (size_t)(4 + q) * fs;
@@ -130,10 +132,11 @@ static void rational_normals(_cb_iv *out, const _cb_iv *H, int m, int n)
                 out[3 * (k * 3 * n + l) + q] = N->c[k * (3 * n) + l];
     }
     free(arena);
+    return 0;
 }
 
-/* Normal coefficients and box of node k from its net. */
-static void node_finish(tree *T, int k)
+/* Normal coefficients and box of node k from its net; -1 when out of memory. */
+static int node_finish(tree *T, int k)
 {
     node *d = T->nd + k;
     int m = T->b->m, n = T->b->n, nv = n + 1;
@@ -154,8 +157,10 @@ static void node_finish(tree *T, int k)
                    (d->hi[2] - d->lo[2]) * (d->hi[2] - d->lo[2]));
     int K = (T->b->rat ? 3 : 2) * m, L = (T->b->rat ? 3 : 2) * n;
     _cb_iv *N = calloc((size_t)(3 * K * L), sizeof(_cb_iv));
-    if (T->b->rat)
-        rational_normals(N, d->net, m, n);
+    if (!N || (T->b->rat && rational_normals(N, d->net, m, n))) {
+        free(N);
+        return -1;
+    }
     for (int i = 0; i < m && !T->b->rat; i++)
         for (int j = 0; j <= n; j++) {
             _cb_iv A[3];
@@ -195,13 +200,19 @@ static void node_finish(tree *T, int k)
         d->nr[c] = r;
     }
     free(N);
+    return 0;
 }
 
+/* A new node with its arrays; -1 when out of memory (the tree is left as it was). */
 static int node_add(tree *T)
 {
     if (T->n == T->alloc) {
-        T->alloc = T->alloc ? 2 * T->alloc : 64;
-        T->nd = realloc(T->nd, (size_t)T->alloc * sizeof(node));
+        int alloc = T->alloc ? 2 * T->alloc : 64;
+        node *q = realloc(T->nd, (size_t)alloc * sizeof(node));
+        if (!q)
+            return -1;
+        T->nd = q;
+        T->alloc = alloc;
     }
     node *d = T->nd + T->n;
     memset(d, 0, sizeof(*d));
@@ -210,23 +221,40 @@ static int node_add(tree *T)
     d->enet = T->b->rat ? malloc((size_t)(3 * np) * sizeof(_cb_iv)) : d->net;
     d->nm = malloc((size_t)(3 * T->nn) * sizeof(double));
     d->nr = malloc((size_t)T->nn * sizeof(double));
+    if (!d->net || !d->enet || !d->nm || !d->nr) {
+        if (d->enet != d->net)
+            free(d->enet);
+        free(d->net);
+        free(d->nm);
+        free(d->nr);
+        return -1;
+    }
     for (int c = 0; c < 4; c++)
         d->child[c] = -1;
     return T->n++;
 }
 
-static void tree_init(tree *T, const _cb_ssi_bez *b)
+static void tree_clear(tree *T);
+
+/* The tree of b with its root; -1 when out of memory (nothing held). */
+static int tree_init(tree *T, const _cb_ssi_bez *b)
 {
     memset(T, 0, sizeof(*T));
     T->b = b;
     T->nn = (b->rat ? 9 : 4) * b->m * b->n;
     int k = node_add(T);
+    if (k < 0)
+        return -1;
     node *d = T->nd + k;
     const double box[4] = {0, 1, 0, 1};
     memcpy(d->box, box, sizeof box);
     for (int i = 0; i < b->dim * (b->m + 1) * (b->n + 1); i++)
         d->net[i] = _cb_iv_pt(b->pts[i]);
-    node_finish(T, k);
+    if (node_finish(T, k)) {
+        tree_clear(T);
+        return -1;
+    }
+    return 0;
 }
 
 static void tree_clear(tree *T)
@@ -241,43 +269,52 @@ static void tree_clear(tree *T)
     free(T->nd);
 }
 
-/* Children of node k (u halves outer, v halves inner), made once. */
-static void node_split(tree *T, int k)
+/* Children of node k (u halves outer, v halves inner), made once; -1 when out of memory (the
+ * node then has no children). */
+static int node_split(tree *T, int k)
 {
     if (T->nd[k].child[0] >= 0)
-        return;
+        return 0;
     int m = T->b->m, n = T->b->n, nv = n + 1, np = (m + 1) * nv, D = T->b->dim;
     _cb_iv *ulo = malloc((size_t)(D * np) * sizeof(_cb_iv)),
-           *uhi = malloc((size_t)(D * np) * sizeof(_cb_iv));
-    for (int j = 0; j <= n; j++)
-        _cb_ssi_split_iv(ulo + D * j, uhi + D * j, T->nd[k].net + D * j, m, D * nv, D);
-    for (int h = 0; h < 2; h++) {
-        const _cb_iv *half = h ? uhi : ulo;
-        for (int g = 0; g < 2; g++) {
-            int c = node_add(T);
-            node *par = T->nd + k, *d = T->nd + c;
-            par->child[2 * h + g] = c;
-            d->depth = par->depth + 1;
-            double um = 0.5 * (par->box[0] + par->box[1]), vm = 0.5 * (par->box[2] + par->box[3]);
-            d->box[0] = h ? um : par->box[0];
-            d->box[1] = h ? par->box[1] : um;
-            d->box[2] = g ? vm : par->box[2];
-            d->box[3] = g ? par->box[3] : vm;
-            _cb_iv *tmp = malloc((size_t)(D * np) * sizeof(_cb_iv));
-            for (int i = 0; i <= m; i++) {
-                if (g)
-                    _cb_ssi_split_iv(tmp + D * i * nv, d->net + D * i * nv, half + D * i * nv, n,
-                                     D, D);
-                else
-                    _cb_ssi_split_iv(d->net + D * i * nv, tmp + D * i * nv, half + D * i * nv, n,
-                                     D, D);
+           *uhi = malloc((size_t)(D * np) * sizeof(_cb_iv)),
+           *tmp = malloc((size_t)(D * np) * sizeof(_cb_iv));
+    int c[4] = {-1, -1, -1, -1}, ok = ulo && uhi && tmp;
+    for (int q = 0; q < 4 && ok; q++)
+        ok = (c[q] = node_add(T)) >= 0;
+    if (ok) {
+        for (int j = 0; j <= n; j++)
+            _cb_ssi_split_iv(ulo + D * j, uhi + D * j, T->nd[k].net + D * j, m, D * nv, D);
+        for (int h = 0; h < 2; h++) {
+            const _cb_iv *half = h ? uhi : ulo;
+            for (int g = 0; g < 2; g++) {
+                node *par = T->nd + k, *d = T->nd + c[2 * h + g];
+                d->depth = par->depth + 1;
+                double um = 0.5 * (par->box[0] + par->box[1]);
+                double vm = 0.5 * (par->box[2] + par->box[3]);
+                d->box[0] = h ? um : par->box[0];
+                d->box[1] = h ? par->box[1] : um;
+                d->box[2] = g ? vm : par->box[2];
+                d->box[3] = g ? par->box[3] : vm;
+                for (int i = 0; i <= m; i++) {
+                    if (g)
+                        _cb_ssi_split_iv(tmp + D * i * nv, d->net + D * i * nv,
+                                         half + D * i * nv, n, D, D);
+                    else
+                        _cb_ssi_split_iv(d->net + D * i * nv, tmp + D * i * nv,
+                                         half + D * i * nv, n, D, D);
+                }
+                ok = ok && !node_finish(T, c[2 * h + g]);
             }
-            free(tmp);
-            node_finish(T, c);
         }
     }
+    if (ok)
+        for (int q = 0; q < 4; q++)
+            T->nd[k].child[q] = c[q];
     free(ulo);
     free(uhi);
+    free(tmp);
+    return ok ? 0 : -1;
 }
 
 /* ---------------------------------------------------------------- tests -------------------- */
@@ -715,15 +752,25 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
 {
     memset(st, 0, sizeof(*st));
     tree TP, TQ;
-    tree_init(&TP, P);
-    tree_init(&TQ, Q);
+    int okp = tree_init(&TP, P) == 0, okq = tree_init(&TQ, Q) == 0;
     double floor_w = ldexp(1.0, -o->max_depth);
     long alloc = 64, sp = 0;
     int(*stack)[2] = malloc((size_t)alloc * sizeof(*stack));
+    if (!okp || !okq || !stack) {
+        /* Out of memory: nothing is known of the pair, which says so. */
+        st->nomem = 1;
+        st->uncertified = 1;
+        free(stack);
+        if (okp)
+            tree_clear(&TP);
+        if (okq)
+            tree_clear(&TQ);
+        return;
+    }
     stack[sp][0] = 0;
     stack[sp][1] = 0;
     sp++;
-    while (sp > 0) {
+    while (sp > 0 && !st->nomem) {
         sp--;
         int ia = stack[sp][0], ib = stack[sp][1];
         if (st->subpairs >= o->max_subpairs) {
@@ -789,13 +836,20 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
             continue;
         }
         int split_a = can_a && (!can_b || a->size >= b->size);
-        if (split_a)
-            node_split(&TP, ia);
-        else
-            node_split(&TQ, ib);
-        if (sp + 4 > alloc) {
-            alloc *= 2;
-            stack = realloc(stack, (size_t)alloc * sizeof(*stack));
+        int split = split_a ? node_split(&TP, ia) : node_split(&TQ, ib);
+        if (!split && sp + 4 > alloc) {
+            int(*q)[2] = realloc(stack, (size_t)(2 * alloc) * sizeof(*stack));
+            if (q) {
+                stack = q;
+                alloc *= 2;
+            } else {
+                split = -1;
+            }
+        }
+        if (split) {
+            st->nomem = 1;
+            uncertified(st, TP.nd + ia, TQ.nd + ib);
+            break;
         }
         for (int c = 3; c >= 0; c--) {
             stack[sp][0] = split_a ? TP.nd[ia].child[c] : ia;

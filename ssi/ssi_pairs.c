@@ -478,7 +478,11 @@ static void spline_run(pair_job *J, const pair_ctx *c)
                               c->chord, c->max_seg};
     _cb_ssi_spline_pair(&J->pieces, &J->sst, &P, &Q, &so);
     const _cb_ssi_spline_stats *s = &J->sst;
-    if (s->uncertified > 0) {
+    if (s->nomem) {
+        J->st = CB_ERR_NOMEM;
+        snprintf(J->msg, sizeof J->msg, "subdivision: out of memory after %ld sub-patch pairs",
+                 s->subpairs);
+    } else if (s->uncertified > 0) {
         J->st = s->march_failed ? CB_ERR_NUMERIC : CB_ERR_UNSUPPORTED;
         snprintf(J->msg, sizeof J->msg,
                  "subdivision: %ld of %ld sub-patch pairs not certified (no direction %d, "
