@@ -223,12 +223,13 @@ typedef struct {
  * copies of their surfaces, their boundary pieces edges on copies of the original edge
  * curves, their cuts degree-1 B-spline edges through the intersection points with degree-1
  * pcurves; pieces are sewn into shared edges where their end vertices (welded within
- * CB_BOOL_WELD tol) and midpoints agree, after a piece that would find no partner is split at
+ * CB_BOOL_WELD tol) and curves agree, after a piece that would find no partner is split at
  * the ends of other such pieces lying on it (the faces along one curve need not be split at the
  * same points when coincident faces meet a third one); the other pcurves are computed
  * (cb_topo_compute_pcurves).
- * The result is one solid with one shell holding every kept face (its connected parts and
- * voids are not separated into solids yet).
+ * The faces are grouped into shells connected by shared edges, each outward shell a solid
+ * holding the inward shells (voids) inside it (boolean/op_shells.c); parts that touch only at
+ * points are separate solids. The empty result has no solid.
  *
  * Not handled yet, reported and never guessed: a region touching the other solid where the
  * faces are not coincident (normals not within acos 0.9: CB_ERR_UNSUPPORTED), faces lying on one

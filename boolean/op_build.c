@@ -689,6 +689,10 @@ cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, op_face *faces, int
         st = cb_topo_compute_pcurves(b, tol, err);
     if (!st && !*unmatched)
         st = lift_pcurves(&bd, err);
+    if (!st && !*unmatched)
+        st = _cb_bool_split_shells(b, err);
+    if (!st && !*unmatched)
+        st = cb_topo_body_index(b, err);
     free(bd.info);
     free(bd.mid_uv);
     for (int k = 0; k < cuts->n; k++)

@@ -57,4 +57,11 @@ cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, op_face *faces, int
                          const cb_topo_body *A, const cb_topo_body *B, const cb_bool_cuts *cuts,
                          double tol, double weld, cb_error *err);
 
+/* Groups the faces of result b (indexed, every coedge with a pcurve) into shells connected by
+ * shared edges, and the shells into solids: each outward shell a solid, with the inward shells
+ * (voids) it holds (the smallest outward shell whose box holds the void's). Faces are
+ * reordered so that shells are consecutive; b must be indexed again. CB_ERR_NUMERIC for an
+ * inward shell inside no outward one, errors of cb_topo_shell_volume, CB_ERR_NOMEM. */
+cb_status _cb_bool_split_shells(cb_topo_body *b, cb_error *err);
+
 #endif

@@ -425,6 +425,61 @@ static void test_birds_fig12(void)
     cb_topo_body_free(B);
 }
 
+/* Shells and solids of a result: a sphere inside a box leaves a void (one solid, two shells),
+ * disjoint boxes make two solids, and the Steinmetz difference two solids touching at points. */
+static void check_shells(const char *name, cb_bool_op op, const cb_topo_body *A,
+                         const cb_topo_body *B, int solids, int shells, double volume)
+{
+    cb_topo_body *res = NULL;
+    cb_error err;
+    cb_status st = cb_bool_run(&res, NULL, op, A, B, NULL, NULL, &err);
+    CHECK(st == CB_OK, "%s: %s", name, err.msg);
+    if (st)
+        return;
+    CHECK(res->n_solids == solids && res->n_shells == shells, "%s: %d solids, %d shells", name,
+          res->n_solids, res->n_shells);
+    cb_topo_report r;
+    cb_topo_report_init(&r);
+    st = cb_topo_validate(&r, res, res->tol, 9, &err);
+    CHECK(st == CB_OK && r.n == 0, "%s: not valid: %s", name, st ? err.msg : r.n ? r.items[0] : "");
+    cb_topo_report_clear(&r);
+    for (int k = 0; k < res->n_solids; k++) {
+        const cb_topo_solid *so = res->solids + k;
+        double v;
+        CHECK(!cb_topo_shell_volume(&v, res, so->first, 64, res->tol, &err) && v > 0,
+              "%s: solid %d's first shell not outward", name, k);
+        for (int j = so->first + 1; j < so->first + so->count; j++)
+            CHECK(!cb_topo_shell_volume(&v, res, j, 64, res->tol, &err) && v < 0,
+                  "%s: solid %d's shell %d is not a void", name, k, j);
+    }
+    cb_mass_props m;
+    CHECK(!cb_mass_body(&m, res, 1e-10, NULL, &err) && fabs(m.volume - volume) <= 1e-6 * volume,
+          "%s: volume %.12g, expected %.12g", name, m.volume, volume);
+    cb_topo_body_free(res);
+}
+
+static void test_shells(void)
+{
+    double lo[3] = {0, 0, 0}, hi[3] = {4, 4, 4}, c[3] = {2, 2, 2};
+    double lo2[3] = {6, 0, 0}, hi2[3] = {7, 1, 1};
+    cb_topo_body *A = box(lo, hi, 0), *S = sphere(c, 1, 0), *D = box(lo2, hi2, 0);
+    if (A && S && D) {
+        check_shells("sphere inside a box, A - B", CB_BOOL_DIFFERENCE, A, S, 1, 2, 64 - 4 * PI / 3);
+        check_shells("sphere inside a box, A u B", CB_BOOL_UNION, A, S, 1, 1, 64);
+        check_shells("disjoint boxes, A u B", CB_BOOL_UNION, A, D, 2, 2, 65);
+    }
+    cb_topo_body_free(A);
+    cb_topo_body_free(S);
+    cb_topo_body_free(D);
+    double ox[3] = {-2, 0, 0}, x[3] = {1, 0, 0}, oy[3] = {0, -2, 0}, y[3] = {0, 1, 0};
+    double ref[3] = {0, 0, 1};
+    cb_topo_body *X = cylinder(ox, x, ref, 1, 4, 0), *Y = cylinder(oy, y, ref, 1, 4, 0);
+    if (X && Y)
+        check_shells("Steinmetz, A - B", CB_BOOL_DIFFERENCE, X, Y, 2, 2, 4 * PI - 16.0 / 3);
+    cb_topo_body_free(X);
+    cb_topo_body_free(Y);
+}
+
 /* Same body, bit for bit: counts, vertices, edge ranges. */
 static int same_body(const cb_topo_body *x, const cb_topo_body *y)
 {
@@ -529,6 +584,8 @@ int main(int argc, char **argv)
         test_lens_torus(0);
         test_lens_torus(1);
     }
+    if (!only || !strcmp(only, "shells"))
+        test_shells();
     if (!only || !strcmp(only, "cardan")) {
         test_cardan(0);
         test_cardan(1);
