@@ -480,6 +480,35 @@ static void test_shells(void)
     cb_topo_body_free(Y);
 }
 
+/* Cancellation: a progress callback that cancels at its first report (after the intersection
+ * stage) stops the operation with CB_ERR_CANCELLED and no result. */
+static void cancel_at_first(void *user, double fraction, const char *stage)
+{
+    (void)fraction;
+    (void)stage;
+    cb_context_cancel(user);
+}
+
+static void test_cancel(void)
+{
+    double lo[3] = {0, 0, 0}, hi[3] = {2, 2, 2}, c[3] = {1, 1, 2};
+    cb_topo_body *A = box(lo, hi, 1), *B = sphere(c, 0.5, 0);
+    if (A && B) {
+        cb_context ctx;
+        cb_context_init(&ctx);
+        ctx.progress = cancel_at_first;
+        ctx.user = &ctx;
+        cb_topo_body *res = NULL;
+        cb_error err;
+        cb_status st = cb_bool_run(&res, NULL, CB_BOOL_UNION, A, B, NULL, &ctx, &err);
+        CHECK(st == CB_ERR_CANCELLED && !res && strstr(err.msg, "cancelled"),
+              "cancelled union: status %d, %s", st, err.msg);
+        cb_topo_body_free(res);
+    }
+    cb_topo_body_free(A);
+    cb_topo_body_free(B);
+}
+
 /* Same body, bit for bit: counts, vertices, edge ranges. */
 static int same_body(const cb_topo_body *x, const cb_topo_body *y)
 {
@@ -562,7 +591,7 @@ static void test_bad_operands(void)
 }
 
 /* With an argument, only the named group runs (for debugging): bad, face, corner, steinmetz,
- * lens, cardan, birds. */
+ * shells, cancel, lens, cardan, birds. */
 int main(int argc, char **argv)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -586,6 +615,8 @@ int main(int argc, char **argv)
     }
     if (!only || !strcmp(only, "shells"))
         test_shells();
+    if (!only || !strcmp(only, "cancel"))
+        test_cancel();
     if (!only || !strcmp(only, "cardan")) {
         test_cardan(0);
         test_cardan(1);
