@@ -12,6 +12,16 @@ cb_topo_body *cb_topo_body_new(void)
     return b;
 }
 
+void cb_topo_body_transform(cb_topo_body *b, const cb_xform *x)
+{
+    for (int k = 0; k < b->n_vertices; k++)
+        cb_xform_apply_point(b->vertices[k].p, x, b->vertices[k].p);
+    for (int k = 0; k < b->n_curves; k++)
+        cb_topo_curve_transform(&b->curves[k], x);
+    for (int k = 0; k < b->n_surfaces; k++)
+        cb_topo_surface_transform(&b->surfaces[k], x);
+}
+
 void cb_topo_body_free(cb_topo_body *b)
 {
     if (!b)

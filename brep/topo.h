@@ -184,6 +184,10 @@ typedef struct {
 cb_topo_body *cb_topo_body_new(void);
 void cb_topo_body_free(cb_topo_body *b);
 
+/* Moves the whole body by the rigid motion x: vertices, edge curves and surfaces (pcurves,
+ * in the surfaces' own parameters, stay valid). */
+void cb_topo_body_transform(cb_topo_body *b, const cb_xform *x);
+
 /* Appenders: each returns the new index (>= 0) or -1 when memory runs out, and zero-fills the
  * entity (curves and surfaces come initialised). They invalidate the incidence index and
  * pointers into the arrays. */

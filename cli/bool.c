@@ -21,6 +21,7 @@
 static const char BOOL_USAGE[] =
     "usage: colibri bool union|intersection|difference A.step B.step -o OUT\n"
     "                    [--json REPORT.json] [--tol T] [--threads N] [--quiet]\n"
+    "                    [--rotate-b AX AY AZ DEG] [--translate-b X Y Z]\n"
     "\n"
     "Computes A u B, A n B or A - B of two closed solids read from STEP files, validates the\n"
     "result, integrates its volume and area on the B-rep, tessellates it and checks the mesh\n"
@@ -37,6 +38,9 @@ static const char BOOL_USAGE[] =
     "  --tol T           tolerance in model units (default 1e-6 of the operands' box diagonal)\n"
     "  --threads N       threads for the intersections (default 0: all hardware threads)\n"
     "  --quiet           no progress and no text summary; errors still go to stderr\n"
+    "  --rotate-b AX AY AZ DEG  turn B by DEG degrees about the axis (AX, AY, AZ) through the\n"
+    "                    origin before the operation (B against a moved copy of itself)\n"
+    "  --translate-b X Y Z  then move B by (X, Y, Z)\n"
     "\n"
     "An empty result (operands that do not overlap, or only touch) is valid, with volume 0: a\n"
     "mesh file gets no triangle, and no STEP file is written (STEP has no empty solid).\n"
@@ -182,8 +186,8 @@ static int crosses_itself(const cb_topo_body *b, cb_context *ctx, char *msg, siz
 int cb_cli_bool(int argc, char **argv)
 {
     const char *files[2] = {NULL, NULL}, *out = NULL, *json = NULL, *opname = NULL;
-    int quiet = 0, threads = 0, nf = 0;
-    double tol = 0;
+    int quiet = 0, threads = 0, nf = 0, move_b = 0;
+    double tol = 0, rot[4] = {0, 0, 1, 0}, shift[3] = {0, 0, 0};
     for (int k = 1; k < argc; k++) {
         if (!strcmp(argv[k], "--help")) {
             fputs(BOOL_USAGE, stdout);
@@ -201,6 +205,23 @@ int cb_cli_bool(int argc, char **argv)
         } else if (!strcmp(argv[k], "--tol") && k + 1 < argc) {
             if (cb_cli_tol_arg(&tol, argv[++k]))
                 return 2;
+        } else if (!strcmp(argv[k], "--rotate-b") || !strcmp(argv[k], "--translate-b")) {
+            int rotate = argv[k][2] == 'r', m = rotate ? 4 : 3;
+            double *v = rotate ? rot : shift;
+            for (int i = 0; i < m; i++) {
+                char *end = NULL;
+                v[i] = k + 1 + i < argc ? strtod(argv[k + 1 + i], &end) : NAN;
+                if (!end || end == argv[k + 1 + i] || *end || !isfinite(v[i])) {
+                    fprintf(stderr, "colibri: bool: %s needs %d numbers\n", argv[k], m);
+                    return 2;
+                }
+            }
+            if (rotate && v[3] != 0 && !(fabs(v[0]) + fabs(v[1]) + fabs(v[2]) > 0)) {
+                fprintf(stderr, "colibri: bool: --rotate-b: the axis is zero\n");
+                return 2;
+            }
+            k += m;
+            move_b = 1;
         } else if (argv[k][0] == '-' && argv[k][1]) {
             fprintf(stderr, "colibri: bool: unknown option '%s'\n", argv[k]);
             fputs(BOOL_USAGE, stderr);
@@ -248,6 +269,17 @@ int cb_cli_bool(int argc, char **argv)
             cb_topo_body_free(body[0]);
             return cb_cli_input_exit(rs);
         }
+    }
+    if (move_b) {
+        cb_xform r, t, x;
+        const double origin[3] = {0, 0, 0};
+        if (rot[3] != 0)
+            cb_xform_rotation(&r, origin, rot, rot[3] * 3.14159265358979323846 / 180);
+        else
+            cb_xform_identity(&r);
+        cb_xform_translation(&t, shift);
+        cb_xform_compose(&x, &t, &r);
+        cb_topo_body_transform(body[1], &x);
     }
     cb_context ctx;
     cb_context_init(&ctx);

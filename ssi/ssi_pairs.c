@@ -226,6 +226,7 @@ typedef struct {
     char msg[200];
     int empty;
     int spline; /* subdivision route; pieces already in the surfaces' domains */
+    int fallback; /* the algebraic route failed and the subdivision route was taken */
     int probe;  /* rational P patch over the degree bound: implicitise first, then choose */
     int coincident, same_normal; /* the patches lie on one surface; normals agree at cxyz */
     double cxyz[3], cdist;       /* cdist: distance of cxyz from P's patch */
@@ -613,11 +614,32 @@ static void pair_run(pair_job *J, const pair_ctx *c)
 static void pair_body(void *vctx, size_t begin, size_t end)
 {
     pair_ctx *c = vctx;
-    for (size_t k = begin; k < end; k++)
-        if (c->job[k].spline)
-            spline_run(c->job + k, c);
-        else if (c->job[k].st == CB_OK)
-            pair_run(c->job + k, c);
+    for (size_t k = begin; k < end; k++) {
+        pair_job *J = c->job + k;
+        if (J->spline) {
+            spline_run(J, c);
+        } else if (J->st == CB_OK) {
+            pair_run(J, c);
+            /* Two B-spline patches whose curve topology could not be certified (a critical
+             * fibre not in generic position, or one that will not separate): the subdivision
+             * route proves its own answer or says why not. */
+            if (J->st != CB_OK && J->st != CB_ERR_NOMEM && c->ppat) {
+                char first[sizeof J->msg];
+                snprintf(first, sizeof first, "%s", J->msg);
+                _cb_ssi_piece_set_clear(&J->pieces);
+                _cb_ssi_piece_set_init(&J->pieces);
+                J->st = CB_OK;
+                J->empty = J->coincident = 0;
+                J->spline = J->fallback = 1;
+                spline_run(J, c);
+                if (J->st != CB_OK) {
+                    char second[sizeof J->msg];
+                    snprintf(second, sizeof second, "%s", J->msg);
+                    snprintf(J->msg, sizeof J->msg, "%.95s; then %.95s", first, second);
+                }
+            }
+        }
+    }
 }
 
 /* Pieces from local patch parameters to the surfaces' domains (analytic angles into
@@ -940,6 +962,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                 r->pairs_certified++;
                 r->pairs_empty += J->empty;
             }
+            r->pairs_subdivided += J->fallback;
             if (!J->spline)
                 to_domains(&J->pieces, P ? P[J->ip].dp : NULL, Ps, Q + J->iq);
             sets[k] = J->pieces;

@@ -206,6 +206,30 @@ static void test_demo(void)
     cli_expect(args, 2, "is not a directory");
 }
 
+/* B moved before the operation: the Cardan cross against itself turned 90 degrees about z
+ * (every face coincides with one of the other: the intersection is the cross, 8 + 4 pi r^2
+ * (L - 1) with r = 3/8, L = 3), and moved 3 up (disjoint: two solids); bad values refused. */
+static void test_move(void)
+{
+    char c[600], out[600], args[3000];
+    const double v_cross = 8 + 4 * 3.14159265358979323846 * 0.375 * 0.375 * 2;
+    snprintf(args, sizeof args, "model cardan cross -o %s", at(c, sizeof c, "cross.step"));
+    cli_expect(args, 0, "");
+    snprintf(args, sizeof args, "bool intersection %s %s --rotate-b 0 0 1 90 -o %s", c, c,
+             at(out, sizeof out, "m.stl"));
+    cli_expect(args, 0, "1 solid, 14 faces, valid");
+    const char *v = strstr(cli_out, "volume ");
+    CHECK(v && fabs(strtod(v + 7, NULL) - v_cross) <= 1e-9 * v_cross, "volume: %s", cli_out);
+    snprintf(args, sizeof args, "bool union %s %s --translate-b 0 0 3 -o %s", c, c, out);
+    cli_expect(args, 0, "2 solids, 28 faces, valid");
+    v = strstr(cli_out, "volume ");
+    CHECK(v && fabs(strtod(v + 7, NULL) - 2 * v_cross) <= 1e-9 * v_cross, "volume: %s", cli_out);
+    snprintf(args, sizeof args, "bool union %s %s --translate-b 0 0 -o %s", c, c, out);
+    cli_expect(args, 2, "--translate-b needs 3 numbers");
+    snprintf(args, sizeof args, "bool union %s %s --rotate-b 0 0 0 30 -o %s", c, c, out);
+    cli_expect(args, 2, "the axis is zero");
+}
+
 int main(void)
 {
     const char *tmp = getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp";
@@ -218,6 +242,7 @@ int main(void)
     test_birds();
     test_unsupported();
     test_empty();
+    test_move();
     test_demo();
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0)

@@ -8,6 +8,7 @@
 #include <time.h>
 
 #include "check.h"
+#include "io/step.h"
 #include "models/models.h"
 #include "ssi/spline.h"
 #include "ssi/ssi.h"
@@ -539,6 +540,48 @@ static void test_hummingbird(void)
     cb_topo_body_free(b);
 }
 
+/* trj5_k1-al-214 (39 B-spline faces from Alias) against a copy moved by (0.5, 0.3, 0.2): five
+ * patch pairs have critical fibres the curve topology cannot certify (not in generic
+ * position); the subdivision route takes them over and certifies them, so every pair is
+ * certified. */
+static void test_fallback(void)
+{
+    const char *d = getenv("COLIBRI_SHARED");
+    char path[1024];
+    snprintf(path, sizeof path, "%s/models/trj5_k1-al-214.stp", d ? d : "../shared");
+    cb_topo_body *A = NULL, *B = NULL;
+    cb_error err;
+    cb_status st = cb_step_read(&A, path, &err);
+    if (!st)
+        st = cb_step_read(&B, path, &err);
+    CHECK(st == CB_OK, "%s: %s", path, err.msg);
+    if (!st) {
+        cb_xform x;
+        const double t[3] = {0.5, 0.3, 0.2};
+        cb_xform_translation(&x, t);
+        cb_topo_body_transform(B, &x);
+        cb_ssi_opts o;
+        cb_ssi_opts_default(&o);
+        o.threads = 2;
+        cb_ssi_result_t r;
+        cb_ssi_result_init(r);
+        st = cb_ssi_bodies(r, A, B, &o, &err);
+        CHECK(st == CB_OK && r->n_failed == 0,
+              "trj5 against a moved copy: status %d, %ld pairs not certified (%s)", st,
+              (long)r->n_failed, r->n_failed ? r->failed[0].msg : err.msg);
+        printf("trj5 against a moved copy: %ld curves, %ld patch pairs certified, %ld by "
+               "subdivision, max distance %.2g / %.2g\n",
+               (long)r->n_curves, (long)r->pairs_certified, (long)r->pairs_subdivided,
+               r->max_dist_a, r->max_dist_b);
+        CHECK(r->n_curves > 0 && r->max_dist_a <= r->tol && r->max_dist_b <= r->tol,
+              "trj5: %ld curves, distances %g %g (tol %g)", (long)r->n_curves, r->max_dist_a,
+              r->max_dist_b, r->tol);
+        cb_ssi_result_clear(r);
+    }
+    cb_topo_body_free(A);
+    cb_topo_body_free(B);
+}
+
 int main(void)
 {
     test_enclosure();
@@ -548,5 +591,6 @@ int main(void)
     test_rational();
     test_coincident();
     test_hummingbird();
+    test_fallback();
     return check_report("test_ssi_spline");
 }
