@@ -296,7 +296,7 @@ static cb_status split_face(op_face *of, const split_ctx *sc, int side, int face
         return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
     }
     for (int r = 0; r < n_reg && !st; r++) {
-        const double *uv = arr.region[r].inner;
+        double uv[2] = {arr.region[r].inner[0], arr.region[r].inner[1]};
         if (cb_face_classify_uv(F, uv[0], uv[1], 1e-3 * sc->tol) != CB_FACE_IN)
             continue; /* a hole of the face, or outside its loops */
         stats->pieces[side]++;
@@ -304,6 +304,25 @@ static cb_status split_face(op_face *of, const split_ctx *sc, int side, int face
         cb_topo_inverter_eval(X3, &F->inv, uv[0], uv[1]);
         cb_bool_where w;
         st = cb_bool_solid_classify(&w, sc->solid[1 - side], X3, err);
+        /* On the other solid: a coincident face, or only a curve where the solids touch (a
+         * cut ending inside the region, which the inner point may lie on). Points around it,
+         * half the region's clearance away, tell the two apart. */
+        for (int k = 0; k < 8 && !st && w == CB_BOOL_ON; k++) {
+            double a = k * 0.78539816339744831, h = 0.5 * arr.region[r].clearance;
+            double q[2] = {arr.region[r].inner[0] + h * cos(a) / scale[0],
+                           arr.region[r].inner[1] + h * sin(a) / scale[1]}, Y[3];
+            if (!(h > 0) || cb_face_classify_uv(F, q[0], q[1], 1e-3 * sc->tol) != CB_FACE_IN)
+                continue;
+            cb_topo_inverter_eval(Y, &F->inv, q[0], q[1]);
+            cb_bool_where wq;
+            st = cb_bool_solid_classify(&wq, sc->solid[1 - side], Y, err);
+            if (!st && wq != CB_BOOL_ON) {
+                w = wq;
+                uv[0] = q[0];
+                uv[1] = q[1];
+                memcpy(X3, Y, sizeof X3);
+            }
+        }
         if (st) {
             cb_error_prefix(err, "%s face %d: ", side ? "B" : "A", face);
             break;

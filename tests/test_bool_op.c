@@ -425,6 +425,59 @@ static void test_birds_fig12(void)
     cb_topo_body_free(B);
 }
 
+/* Contacts, analytic and NURBS: two boxes sharing a face (whole, or in part), a sphere touching
+ * a box at one point (the union: two solids), a cylinder lying on a box along a line (the
+ * union: two solids touching along it, whose mesh is reported self-intersecting there), and a
+ * cylinder in a hole of its own radius (coincident cylinders). Each in all three operations,
+ * volumes from the closed forms. */
+static void test_contacts(int as_nurbs)
+{
+    char name[64];
+    const double x[3] = {1, 0, 0}, z[3] = {0, 0, 1}, y[3] = {0, 1, 0};
+    double lo[3] = {0, 0, 0}, hi[3] = {2, 2, 2}, lo2[3] = {2, 0, 0}, hi2[3] = {4, 2, 2};
+    double lo3[3] = {2, 1, 0}, hi3[3] = {4, 3, 2}, c[3] = {1, 1, 3};
+    cb_topo_body *A = box(lo, hi, as_nurbs), *B = box(lo2, hi2, as_nurbs);
+    cb_topo_body *B2 = box(lo3, hi3, as_nurbs), *S = sphere(c, 1, as_nurbs);
+    const double ol[3] = {-1, 1, 2.5}, op[3] = {1, 1, -1};
+    cb_topo_body *L = cylinder(ol, x, z, 0.5, 4, as_nurbs), *P = cylinder(op, z, x, 0.5, 4, as_nurbs);
+    cb_topo_body *Q = cylinder(op, z, y, 0.5, 4, as_nurbs), *H = NULL;
+    if (A && B && B2 && S && L && P && Q) {
+        const cb_topo_body *other[3] = {B, B2, S};
+        const char *what[3] = {"boxes sharing a face", "boxes sharing part of one",
+                               "sphere touching a box"};
+        const double vb[3] = {8, 8, 4 * PI / 3};
+        for (int k = 0; k < 3; k++) {
+            snprintf(name, sizeof name, "%s%s", what[k], as_nurbs ? " NURBS" : "");
+            check_op(name, CB_BOOL_UNION, A, other[k], 8 + vb[k], 1e-6, NULL);
+            check_op(name, CB_BOOL_INTERSECTION, A, other[k], 0, 1e-6, NULL);
+            check_op(name, CB_BOOL_DIFFERENCE, A, other[k], 8, 1e-6, NULL);
+        }
+        snprintf(name, sizeof name, "cylinder lying on a box%s", as_nurbs ? " NURBS" : "");
+        touching_curve = 1;
+        check_op(name, CB_BOOL_UNION, A, L, 8 + PI, 1e-6, NULL);
+        check_op(name, CB_BOOL_INTERSECTION, A, L, 0, 1e-6, NULL);
+        check_op(name, CB_BOOL_DIFFERENCE, A, L, 8, 1e-6, NULL);
+        cb_error err;
+        cb_status st = cb_bool_run(&H, NULL, CB_BOOL_DIFFERENCE, A, P, NULL, NULL, &err);
+        CHECK(st == CB_OK, "box with a hole: %s", err.msg);
+        if (!st) {
+            /* Q's seam on +y, the hole's on +x: the coincident faces are cut at other places. */
+            snprintf(name, sizeof name, "cylinder in its hole%s", as_nurbs ? " NURBS" : "");
+            check_op(name, CB_BOOL_UNION, H, Q, 8 + PI / 2, 1e-6, NULL);
+            check_op(name, CB_BOOL_INTERSECTION, H, Q, 0, 1e-6, NULL);
+            check_op(name, CB_BOOL_DIFFERENCE, H, Q, 8 - PI / 2, 1e-6, NULL);
+        }
+    }
+    cb_topo_body_free(A);
+    cb_topo_body_free(B);
+    cb_topo_body_free(B2);
+    cb_topo_body_free(S);
+    cb_topo_body_free(L);
+    cb_topo_body_free(P);
+    cb_topo_body_free(Q);
+    cb_topo_body_free(H);
+}
+
 /* The tricylinder: unit cylinders along x, y and z, axes meeting at the origin. The Steinmetz
  * solid A n B (itself a Boolean result, its faces trimmed by cut edges) against C: the
  * intersection is the tricylinder, 8 (2 - sqrt 2); union and difference follow from it, the
@@ -623,7 +676,7 @@ static void test_bad_operands(void)
 }
 
 /* With an argument, only the named group runs (for debugging): bad, face, corner, steinmetz,
- * tricylinder, shells, cancel, lens, cardan, birds. */
+ * contacts, tricylinder, shells, cancel, lens, cardan, birds. */
 int main(int argc, char **argv)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -644,6 +697,10 @@ int main(int argc, char **argv)
     if (!only || !strcmp(only, "lens")) {
         test_lens_torus(0);
         test_lens_torus(1);
+    }
+    if (!only || !strcmp(only, "contacts")) {
+        test_contacts(0);
+        test_contacts(1);
     }
     if (!only || !strcmp(only, "tricylinder")) {
         test_tricylinder(0);
