@@ -159,7 +159,7 @@ static int finish(report *rep, cb_topo_body *res, const char *out, int quiet, cb
                    : r->self_intersections ? "yes"
                                            : "none",
                    r->mesh_volume);
-        if (!r->valid)
+        if (!r->valid || r->touching)
             printf("%s\n", r->message);
     }
     return code;

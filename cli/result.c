@@ -58,4 +58,12 @@ void cb_cli_result_check(cb_cli_result *r, cb_topo_body *res, cb_mesh_t mesh,
         r->valid = 0;
         snprintf(r->message, sizeof r->message, "mesh: %s", err.msg);
     }
+    if (r->valid && r->mesh_done && r->solids >= 2 && r->closed && r->manifold &&
+        r->self_intersections == 1) {
+        r->touching = 1;
+        snprintf(r->message, sizeof r->message,
+                 "the result's %d solids touch each other along curves or at points (not a "
+                 "manifold solid there); its mesh is reported self-intersecting where they do",
+                 r->solids);
+    }
 }

@@ -156,7 +156,7 @@ static void test_unsupported(void)
 
 /* Operands that only touch (the cross's arm lying on the yoke's base along a line): the
  * intersection is the empty solid, valid with volume 0; a mesh file is written, a STEP file
- * is not (STEP has no empty solid). */
+ * is not (STEP has no empty solid). The union is two solids touching along the line. */
 static void test_empty(void)
 {
     char a[600], b[600], out[600], rep[600], args[3000];
@@ -175,6 +175,14 @@ static void test_empty(void)
              at(out, sizeof out, "t.step"));
     cli_expect(args, 0, "no STEP file written");
     CHECK(access(out, F_OK) != 0, "a STEP file was written for the empty result");
+    /* Their union: two solids touching along the line, said so in the report. */
+    snprintf(args, sizeof args, "bool union %s %s -o %s --json %s", a, b,
+             at(out, sizeof out, "t.stl"), at(rep, sizeof rep, "t.json"));
+    cli_expect(args, 0, "2 solids touch each other");
+    text = slurp(rep);
+    CHECK(text && strstr(text, "\"status\": \"ok\"") && strstr(text, "touch each other") &&
+              json_number(text, "solids") == 2 && strstr(text, "\"self_intersections\": 1"),
+          "touching report: %s", text ? text : "(none)");
 }
 
 /* colibri demo on one scenario: the table's rows, its verdicts, and the files it writes; bad
