@@ -236,6 +236,41 @@ cb_status cb_cardan_scenario_volumes(cb_cardan_volumes *v, const cb_cardan_scena
  * caller releases with free(); CB_ERR_NOMEM leaves it NULL. */
 cb_status cb_cardan_reference_json(char **out, cb_error *err);
 
+/* ---------------------------------------------------------------- bracket ------------------ */
+
+/* An L-shaped bracket, in its own frame: the profile [0, L] x [0, t] (horizontal leg) and
+ * [0, t] x [0, H] (vertical leg) in (x, z), its inner corner (t, t) rounded by a concave
+ * quarter-circle fillet of radius f (a tangent blend: the planes x = t and z = t meet it
+ * tangentially), extruded over y in [-w/2, w/2]; a hole of radius r through the vertical leg
+ * along x at height hole_z, and one through the horizontal leg along z at hole_x (both at
+ * y = 0). 11 faces (6 planar sides, 4 of them pierced by a hole as an inner loop; the fillet;
+ * 2 L-shaped ends; 2 hole cylinders facing their axes), 27 edges, 18 vertices, exactly
+ * constructible, so its volume has a closed form (cb_bracket_volume). Faces analytic or exact
+ * rational B-splines (as_nurbs), pose as the Cardan parts'. */
+typedef struct {
+    double length, height, thickness, width; /* L, H, t, w */
+    double fillet;                            /* f > 0 */
+    double hole_radius, hole_x, hole_z;       /* r and the holes' positions */
+} cb_bracket_shape;
+
+typedef struct {
+    cb_bracket_shape shape;
+    cb_model_pose pose;
+    int as_nurbs;
+    double tol; /* <= 0: CB_CARDAN_REL_TOL times the largest extent */
+} cb_bracket_params;
+
+/* L = 4, H = 3, t = 1/2, w = 2, f = 1/2, r = 0.3, hole_x = 2.5, hole_z = 2; no pose. */
+void cb_bracket_params_default(cb_bracket_params *p);
+
+/* w (L t + (H - t) t + (1 - pi/4) f^2) - 2 pi r^2 t. */
+double cb_bracket_volume(const cb_bracket_shape *s);
+
+/* Builds the bracket. CB_ERR_INVALID naming the conditions when the shape is out of range
+ * (0 < t < L, H; w > 0; f > 0, t + f < L, H; 0 < r < w/2; each hole clear of the fillet and of
+ * its leg's end), CB_ERR_NOMEM. */
+cb_status cb_model_bracket(cb_topo_body **out, const cb_bracket_params *p, cb_error *err);
+
 /* ---------------------------------------------------------------- scenarios ---------------- */
 
 /* Error bars of the closed-form references (absolute): this fraction of the reference plus

@@ -4,11 +4,63 @@
 #include <string.h>
 
 #include "brep/mass.h"
+#include "brep/prim.h"
 #include "models/models.h"
+
+/* The bracket scenarios, after the Cardan ones: a bolt through the hole of the horizontal
+ * leg (coincident cylinders), and a rod lying in the inner corner (coincident with the fillet,
+ * tangent to the two planes along the fillet's edges). */
+enum { N_BRACKET = 2 };
+static const char *const bracket_names[N_BRACKET] = {"bracket_bolt", "bracket_rod"};
 
 int cb_model_scenario_count(void)
 {
-    return 1 + 2 * cb_cardan_scenario_count();
+    return 1 + 2 * cb_cardan_scenario_count() + 2 * N_BRACKET;
+}
+
+static cb_status load_bracket(cb_model_scenario *s, int k, int nurbs, cb_error *err)
+{
+    cb_bracket_params p;
+    cb_bracket_params_default(&p);
+    p.as_nurbs = nurbs;
+    const cb_bracket_shape *b = &p.shape;
+    double o[3], axis[3], ref[3], r, len;
+    if (k == 0) {
+        /* Through the hole, from half a thickness below to a thickness above the leg. */
+        r = b->hole_radius;
+        len = 3 * b->thickness;
+        const double o0[3] = {b->hole_x, 0, -b->thickness}, a0[3] = {0, 0, 1}, r0[3] = {0, 1, 0};
+        memcpy(o, o0, sizeof o);
+        memcpy(axis, a0, sizeof axis);
+        memcpy(ref, r0, sizeof ref);
+    } else {
+        /* In the corner, on the fillet's axis, half a unit past the bracket on each side. */
+        r = b->fillet;
+        len = b->width + 1;
+        double c = b->thickness + b->fillet;
+        const double o1[3] = {c, -0.5 * b->width - 0.5, c}, a1[3] = {0, 1, 0}, r1[3] = {1, 0, 0};
+        memcpy(o, o1, sizeof o);
+        memcpy(axis, a1, sizeof axis);
+        memcpy(ref, r1, sizeof ref);
+    }
+    cb_frame f;
+    cb_status st = cb_model_bracket(&s->a, &p, err);
+    if (!st)
+        st = cb_frame_make(&f, o, axis, ref, err);
+    if (!st)
+        st = cb_prim_cylinder(&s->b, &f, r, len, nurbs, 0, err);
+    if (!st)
+        st = cb_topo_compute_pcurves(s->b, s->b->tol, err);
+    if (st)
+        return st;
+    double va = cb_bracket_volume(b), vb = 3.14159265358979323846 * r * r * len;
+    s->ref[0] = va + vb;
+    s->ref[1] = 0;
+    s->ref[2] = va;
+    for (int j = 0; j < 3; j++)
+        s->bar[j] = CB_SCENARIO_REL_BAR * s->ref[j] + CB_SCENARIO_ABS_BAR * (va + vb);
+    s->source = "closed form";
+    return CB_OK;
 }
 
 static cb_status load_birds(cb_model_scenario *s, cb_error *err)
@@ -64,11 +116,16 @@ static cb_status load_cardan(cb_model_scenario *s, int k, int nurbs, cb_error *e
 
 cb_status cb_model_scenario_name(char *name, size_t n, int k, cb_error *err)
 {
-    int nc = cb_cardan_scenario_count();
-    if (k < 0 || k >= 1 + 2 * nc)
-        return cb_error_set(err, CB_ERR_INVALID, "scenario %d: not in 0 .. %d", k, 2 * nc);
+    int nc = cb_cardan_scenario_count(), count = cb_model_scenario_count();
+    if (k < 0 || k >= count)
+        return cb_error_set(err, CB_ERR_INVALID, "scenario %d: not in 0 .. %d", k, count - 1);
     if (k == 0) {
         snprintf(name, n, "hummingbirds");
+        return CB_OK;
+    }
+    if (k > 2 * nc) {
+        int j = k - 1 - 2 * nc;
+        snprintf(name, n, "%s%s", bracket_names[j % N_BRACKET], j >= N_BRACKET ? "_nurbs" : "");
         return CB_OK;
     }
     cb_cardan_scenario c;
@@ -85,7 +142,12 @@ cb_status cb_model_scenario_load(cb_model_scenario *s, int k, cb_error *err)
     if (st)
         return st;
     int nc = cb_cardan_scenario_count();
-    st = k == 0 ? load_birds(s, err) : load_cardan(s, (k - 1) % nc, k > nc, err);
+    if (k == 0)
+        st = load_birds(s, err);
+    else if (k <= 2 * nc)
+        st = load_cardan(s, (k - 1) % nc, k > nc, err);
+    else
+        st = load_bracket(s, (k - 1 - 2 * nc) % N_BRACKET, k - 1 - 2 * nc >= N_BRACKET, err);
     if (st)
         cb_model_scenario_clear(s);
     return st;

@@ -478,6 +478,32 @@ static void test_contacts(int as_nurbs)
     cb_topo_body_free(H);
 }
 
+/* The bracket scenarios (models/scenario.c): a bolt through the hole of the horizontal leg
+ * (coincident cylinders) and a rod lying in the inner corner (coincident with the fillet, the
+ * tangent blend, and tangent to the two planes along its edges), analytic and NURBS, all four
+ * operations against the closed forms. */
+static void test_brackets(void)
+{
+    int n = cb_model_scenario_count();
+    for (int k = 0; k < n; k++) {
+        char name[64];
+        cb_error err;
+        if (cb_model_scenario_name(name, sizeof name, k, &err) || strncmp(name, "bracket", 7))
+            continue;
+        cb_model_scenario s;
+        cb_status st = cb_model_scenario_load(&s, k, &err);
+        CHECK(st == CB_OK, "%s: %s", name, err.msg);
+        if (st)
+            continue;
+        double vb = s.ref[0] - s.ref[2]; /* V(A u B) - V(A - B) = V(B): they only touch */
+        check_op(name, CB_BOOL_UNION, s.a, s.b, s.ref[0], 1e-6, NULL);
+        check_op(name, CB_BOOL_INTERSECTION, s.a, s.b, s.ref[1], 1e-6, NULL);
+        check_op(name, CB_BOOL_DIFFERENCE, s.a, s.b, s.ref[2], 1e-6, NULL);
+        check_op(name, CB_BOOL_DIFFERENCE, s.b, s.a, vb, 1e-6, NULL);
+        cb_model_scenario_clear(&s);
+    }
+}
+
 /* The tricylinder: unit cylinders along x, y and z, axes meeting at the origin. The Steinmetz
  * solid A n B (itself a Boolean result, its faces trimmed by cut edges) against C: the
  * intersection is the tricylinder, 8 (2 - sqrt 2); union and difference follow from it, the
@@ -676,7 +702,7 @@ static void test_bad_operands(void)
 }
 
 /* With an argument, only the named group runs (for debugging): bad, face, corner, steinmetz,
- * contacts, tricylinder, shells, cancel, lens, cardan, birds. */
+ * brackets, contacts, tricylinder, shells, cancel, lens, cardan, birds. */
 int main(int argc, char **argv)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -698,6 +724,8 @@ int main(int argc, char **argv)
         test_lens_torus(0);
         test_lens_torus(1);
     }
+    if (!only || !strcmp(only, "brackets"))
+        test_brackets();
     if (!only || !strcmp(only, "contacts")) {
         test_contacts(0);
         test_contacts(1);

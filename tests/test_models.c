@@ -615,11 +615,48 @@ static void test_estimate_birds(void)
     cb_topo_body_free(b);
 }
 
+/* The bracket: counts, validity, the closed-form volume against the B-rep integration,
+ * analytic and NURBS, posed; bad shapes refused. */
+static void test_bracket(void)
+{
+    for (int nurbs = 0; nurbs < 2; nurbs++) {
+        cb_bracket_params p;
+        cb_bracket_params_default(&p);
+        p.as_nurbs = nurbs;
+        p.pose.axis[0] = 1;
+        p.pose.angle_deg = 25;
+        p.pose.translate[1] = 3;
+        cb_topo_body *b = NULL;
+        cb_error err;
+        cb_status st = cb_model_bracket(&b, &p, &err);
+        CHECK(st == CB_OK, "bracket: %s", err.msg);
+        if (st)
+            continue;
+        CHECK(b->n_faces == 11 && b->n_edges == 27 && b->n_vertices == 18 && b->n_solids == 1,
+              "bracket: %d faces, %d edges, %d vertices", b->n_faces, b->n_edges, b->n_vertices);
+        check_valid(b, nurbs ? "bracket NURBS" : "bracket");
+        cb_mass_props m;
+        double v = cb_bracket_volume(&p.shape);
+        CHECK(!cb_mass_body(&m, b, 1e-12, NULL, &err) && fabs(m.volume - v) <= 1e-9 * v,
+              "bracket volume %.15g, closed form %.15g", m.volume, v);
+        cb_topo_body_free(b);
+    }
+    cb_bracket_params p;
+    cb_bracket_params_default(&p);
+    p.shape.hole_x = 1.1; /* the hole would cut the fillet */
+    cb_topo_body *b = NULL;
+    cb_error err;
+    CHECK(cb_model_bracket(&b, &p, &err) == CB_ERR_INVALID && !b && strstr(err.msg, "hole"),
+          "bad bracket: %s", err.msg);
+    cli_expect("model bracket -o /nonexistent/dir/b.step", 2, "cannot create");
+    cli_expect("model bracket -o x.step --fillet 1", 2, "--fillet does not apply to bracket");
+}
+
 /* The scenario list the demo and the benchmarks share: names, bad indices, references. */
 static void test_scenarios(void)
 {
     int n = cb_model_scenario_count();
-    CHECK(n == 1 + 2 * cb_cardan_scenario_count(), "%d scenarios", n);
+    CHECK(n == 1 + 2 * cb_cardan_scenario_count() + 4, "%d scenarios", n);
     char name[64];
     cb_error err;
     CHECK(!cb_model_scenario_name(name, sizeof name, 0, &err) && !strcmp(name, "hummingbirds"),
@@ -692,6 +729,7 @@ int main(void)
     test_estimate_spheres();
     test_estimate_birds();
     test_scenarios();
+    test_bracket();
     test_command();
     printf("models tests: %.2f s\n", seconds() - t0);
     return check_report("models");
