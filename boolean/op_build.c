@@ -211,7 +211,8 @@ static cb_status add_coedge(builder *bd, int loop, const op_region *r, const op_
      * that but farther than the snap) welds into a point: no edge. */
     if (g.v_start == g.v_end && dist3(g.mid, b->vertices[g.v_start].p) <= bd->weld)
         return CB_OK;
-    int lo = g.t_start < g.t_end ? g.v_start : g.v_end, hi = g.t_start < g.t_end ? g.v_end : g.v_start;
+    int up = g.t_start < g.t_end;
+    int lo = up ? g.v_start : g.v_end, hi = up ? g.v_end : g.v_start;
     int edge = -1;
     for (int e = 0; e < b->n_edges && edge < 0; e++)
         if (bd->info[e].uses == 1 &&
@@ -367,8 +368,15 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-static int rec_lo(const piece_rec *r) { return r->g.v_start < r->g.v_end ? r->g.v_start : r->g.v_end; }
-static int rec_hi(const piece_rec *r) { return r->g.v_start < r->g.v_end ? r->g.v_end : r->g.v_start; }
+static int rec_lo(const piece_rec *r)
+{
+    return r->g.v_start < r->g.v_end ? r->g.v_start : r->g.v_end;
+}
+
+static int rec_hi(const piece_rec *r)
+{
+    return r->g.v_start < r->g.v_end ? r->g.v_end : r->g.v_start;
+}
 
 static int same_ends(const piece_rec *x, const piece_rec *y)
 {
@@ -469,7 +477,8 @@ static cb_status split_t_junctions(builder *bd, op_face *faces, int n_faces,
                 pr->g = g;
                 double q[27];
                 for (int j = 0; j <= 8; j++)
-                    cb_topo_curve_eval(q + 3 * j, g.curve, g.t_start + (g.t_end - g.t_start) * j / 8);
+                    cb_topo_curve_eval(q + 3 * j, g.curve,
+                                       g.t_start + (g.t_end - g.t_start) * j / 8);
                 cb_aabb_of_points(&pr->box, q, 9, 3);
                 for (int i = 0; i < 3; i++) {
                     pr->box.lo[i] -= bd->weld;

@@ -305,10 +305,10 @@ static int sample_edge(const face_work *w, int g, int *pos)
 }
 
 /* Whether the segment between shared samples a and b joins two samples of one edge of the
- * face that are not neighbours along it, or two vertices an edge of another face joins. The face on the edge's other side holds both samples
- * too and may join them the same way: two faces' triangles would then share that segment, an
- * edge of four triangles in the body's mesh (seen where two faces hug a curved edge from its
- * concave side). */
+ * face that are not neighbours along it, or two vertices an edge of another face joins. The
+ * face on the edge's other side holds both samples too and may join them the same way: two
+ * faces' triangles would then share that segment, an edge of four triangles in the body's mesh
+ * (seen where two faces hug a curved edge from its concave side). */
 static int same_edge_chord(const face_work *w, int a, int b)
 {
     const cb_tess_edges *es = w->es;

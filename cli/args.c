@@ -1,7 +1,9 @@
-/* args.c — the option values and the progress line every command shares. */
+/* args.c — the option values, the progress line and the clock every command shares. */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <time.h>
 
 #include "cli/commands.h"
 
@@ -37,4 +39,11 @@ void cb_cli_progress(void *user, double fraction, const char *stage)
     *last = pct;
     fprintf(stderr, "\r%s %3d%%", stage, pct);
     fflush(stderr);
+}
+
+double cb_cli_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }

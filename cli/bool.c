@@ -5,7 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "boolean/bool.h"
@@ -55,13 +54,6 @@ static const char BOOL_USAGE[] =
     "  colibri model hummingbird -o a.step\n"
     "  colibri model hummingbird -o b.step --translate 0.3 0.1 0.05\n"
     "  colibri bool union a.step b.step -o birds.stl --json birds.json\n";
-
-static double seconds_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 static int has_extension(const char *path, const char *ext)
 {
@@ -260,7 +252,7 @@ int cb_cli_bool(int argc, char **argv)
         fprintf(stderr, "colibri: %s (or .step, .stp)\n", err.msg);
         return 2;
     }
-    double t0 = seconds_now();
+    double t0 = cb_cli_seconds();
     cb_topo_body *body[2] = {NULL, NULL};
     for (int k = 0; k < 2; k++) {
         cb_status rs = cb_step_read(body + k, files[k], &err);
@@ -329,7 +321,7 @@ int cb_cli_bool(int argc, char **argv)
     }
     if (shown >= 0)
         fputc('\n', stderr);
-    rep.t_total = seconds_now() - t0;
+    rep.t_total = cb_cli_seconds() - t0;
     if (json && !write_report(json, &rep)) {
         fprintf(stderr, "colibri: cannot write %s\n", json);
         code = 2;

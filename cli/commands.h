@@ -25,6 +25,9 @@ int cb_cli_threads_arg(int *threads, const char *s);
  * changes; user points to an int holding the last one drawn (start it at -1). */
 void cb_cli_progress(void *user, double fraction, const char *stage);
 
+/* Seconds of a monotonic clock, for elapsed times. */
+double cb_cli_seconds(void);
+
 /* Exit status for a file that could not be read or written with status st: 2 (the input
  * cannot be used), except 1 when memory ran out. */
 int cb_cli_input_exit(cb_status st);

@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "boolean/bool.h"
@@ -48,13 +47,6 @@ static const char DEMO_USAGE[] =
     "Exit status: 0 no row is WRONG (refused rows are counted in the summary), 1 some row is\n"
     "WRONG or a scenario could not be built, 2 bad usage or DIR cannot be made.\n";
 
-static double seconds_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
 /* Writes the mesh as STL, OBJ and SVG under dir; 0 or -1 with the reason in err. */
 static int write_outputs(const char *dir, const char *name, const char *op, const cb_mesh_t mesh,
                          cb_error *err)
@@ -84,9 +76,9 @@ static void run_op(tally *t, const cb_model_scenario *L, int opk, const char *di
     cb_error_clear(&err);
     cb_topo_body *res = NULL;
     cb_bool_stats stats;
-    double t0 = seconds_now();
+    double t0 = cb_cli_seconds();
     cb_status st = cb_bool_run(&res, &stats, ops[opk], L->a, L->b, NULL, ctx, &err);
-    double t_bool = seconds_now() - t0;
+    double t_bool = cb_cli_seconds() - t0;
     printf("%-26s %-12s ", L->name, op);
     if (st) {
         printf("%13s %13s %9s %8s %-16s %7.2f  refused: %s\n", "-", "-", "-", "-", "-", t_bool,
@@ -102,7 +94,8 @@ static void run_op(tally *t, const cb_model_scenario *L, int opk, const char *di
     double ref = L->ref[opk], dv = r.volume - ref;
     double rel = ref != 0 ? fabs(dv) / fabs(ref) : fabs(dv);
     int in_bar = fabs(dv) <= L->bar[opk];
-    int mesh_ok = r.mesh_done && r.closed && r.manifold && (r.self_intersections == 0 || r.touching);
+    int mesh_ok =
+        r.mesh_done && r.closed && r.manifold && (r.self_intersections == 0 || r.touching);
     char mesh_txt[32];
     if (!r.mesh_done)
         snprintf(mesh_txt, sizeof mesh_txt, "not made");
@@ -117,8 +110,9 @@ static void run_op(tally *t, const cb_model_scenario *L, int opk, const char *di
                                  : NULL;
     if (r.mesh_done && r.triangles > 0 && write_outputs(dir, L->name, op, mesh, &err) && !why)
         why = err.msg;
-    printf("%13.9g %13.9g %9.2e %8.1e %-16s %7.2f  %s%s\n", r.volume, ref, rel, L->bar[opk], mesh_txt,
-           seconds_now() - t0, why ? "WRONG: " : "ok", why ? why : r.touching ? " (solids touch)" : "");
+    const char *note = why ? why : r.touching ? " (solids touch)" : "";
+    printf("%13.9g %13.9g %9.2e %8.1e %-16s %7.2f  %s%s\n", r.volume, ref, rel, L->bar[opk],
+           mesh_txt, cb_cli_seconds() - t0, why ? "WRONG: " : "ok", note);
     fflush(stdout);
     if (why)
         t->wrong++;
@@ -194,7 +188,7 @@ int cb_cli_demo(int argc, char **argv)
            "reference", "rel.err", "bar", "mesh", "time/s", "verdict");
     tally t = {0, 0, 0};
     int failed_builds = 0;
-    double t0 = seconds_now();
+    double t0 = cb_cli_seconds();
     for (int k = 0; k < n; k++) {
         char name[64];
         cb_error err;
@@ -218,6 +212,6 @@ int cb_cli_demo(int argc, char **argv)
     printf("%d ok, %d WRONG, %d refused, %d scenario%s not built; %.1f s; meshes and pictures "
            "in %s/\n",
            t.ok, t.wrong, t.refused, failed_builds, failed_builds == 1 ? "" : "s",
-           seconds_now() - t0, dir);
+           cb_cli_seconds() - t0, dir);
     return t.wrong || failed_builds ? 1 : 0;
 }

@@ -5,7 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "brep/mesh_check.h"
@@ -94,13 +93,6 @@ static void print_text(const char *path, const char *out, double tol, const cb_t
     printf("result: %s\n", cb_mesh_check_passed(r) ? "pass" : "FAIL");
 }
 
-static double seconds_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
 int cb_cli_mesh(int argc, char **argv)
 {
     const char *path = NULL, *out = NULL;
@@ -165,7 +157,7 @@ int cb_cli_mesh(int argc, char **argv)
     cb_tess_opts ro;
     cb_mesh_t m;
     cb_mesh_init(m);
-    double t0 = seconds_now();
+    double t0 = cb_cli_seconds();
     cb_status st = cb_tess_opts_resolve(&ro, &o, b, &err);
     if (!st)
         st = cb_tess_body(m, b, &ro, &ctx, &err);
@@ -176,7 +168,7 @@ int cb_cli_mesh(int argc, char **argv)
         cb_topo_body_free(b);
         return st == CB_ERR_INVALID ? 2 : 1;
     }
-    double seconds = seconds_now() - t0;
+    double seconds = cb_cli_seconds() - t0;
     cb_mesh_check_report r;
     st = cb_mesh_check(&r, m, &err);
     if (!st)

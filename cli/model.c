@@ -275,8 +275,9 @@ static int model_pair(const model_args *a)
         st = cb_model_hummingbird(b + k, p + k, &err);
     int code = st ? build_failed(st, &err) : 0;
     for (int k = 0; k < 2 && a->path && !code; k++)
-        code = validate_and_write(k ? a->path_b : a->path, b[k], k ? "hummingbird (B)" : "hummingbird (A)",
-                                  "hummingbird", "bicubic B-splines, 6 x 6 control points");
+        code = validate_and_write(k ? a->path_b : a->path, b[k],
+                                  k ? "hummingbird (B)" : "hummingbird (A)", "hummingbird",
+                                  "bicubic B-splines, 6 x 6 control points");
     for (int k = 0; k < 2 && a->estimate && !code && !st; k++)
         st = cb_topo_compute_pcurves(b[k], b[k]->tol, &err);
     cb_overlap_estimate e;
