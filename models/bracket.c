@@ -135,24 +135,7 @@ cb_status cb_model_bracket(cb_topo_body **out, const cb_bracket_params *p, cb_er
             cb_build_loop(&bd, 1, h);
         }
     }
-    /* The L-shaped ends: y = -w/2 runs against the profile, y = +w/2 along it. */
-    double front[N_PROFILE][3], back[N_PROFILE][3];
-    int lf[N_PROFILE][2], lk[N_PROFILE][2];
-    for (int k = 0; k < n; k++) {
-        front[k][0] = back[k][0] = pt[k][0];
-        front[k][1] = -hw;
-        back[k][1] = hw;
-        front[k][2] = back[k][2] = pt[k][1];
-        lf[k][0] = ef[n - 1 - k];
-        lf[k][1] = !fwd[n - 1 - k];
-        lk[k][0] = ek[k];
-        lk[k][1] = fwd[k];
-    }
-    const double ny[3] = {0, -1, 0};
-    cb_build_polygon_face(&bd, front[0], ny, xdir, n, (const double(*)[3])front);
-    cb_build_loop(&bd, n, (const int(*)[2])lf);
-    cb_build_polygon_face(&bd, back[0], ydir, xdir, n, (const double(*)[3])back);
-    cb_build_loop(&bd, n, (const int(*)[2])lk);
+    cb_build_profile_ends(&bd, n, pt, hw, ef, ek, fwd);
     for (int m = 0; m < 2; m++)
         cb_build_tube_face(&bd, &hole[m], 0);
     return cb_build_finish(out, &bd, "bracket");

@@ -345,3 +345,33 @@ void cb_build_cap_face(cb_build *bd, const cb_build_tube *t)
     const int l[1][2] = {{t->c1, 1}};
     cb_build_loop(bd, 1, l);
 }
+
+void cb_build_profile_ends(cb_build *bd, int n, const double (*pt)[2], double hw, const int *ef,
+                           const int *ek, const int *fwd)
+{
+    enum { MAX = 16 };
+    if (bd->st)
+        return;
+    if (n > MAX) {
+        bd->st = cb_error_set(bd->err, CB_ERR_INVALID, "profile of %d points (at most %d)", n, MAX);
+        return;
+    }
+    /* y = -hw runs against the profile, y = +hw along it. */
+    double front[MAX][3], back[MAX][3];
+    int lf[MAX][2], lk[MAX][2];
+    for (int k = 0; k < n; k++) {
+        front[k][0] = back[k][0] = pt[k][0];
+        front[k][1] = -hw;
+        back[k][1] = hw;
+        front[k][2] = back[k][2] = pt[k][1];
+        lf[k][0] = ef[n - 1 - k];
+        lf[k][1] = !fwd[n - 1 - k];
+        lk[k][0] = ek[k];
+        lk[k][1] = fwd[k];
+    }
+    const double ny[3] = {0, -1, 0}, ydir[3] = {0, 1, 0}, xdir[3] = {1, 0, 0};
+    cb_build_polygon_face(bd, front[0], ny, xdir, n, (const double(*)[3])front);
+    cb_build_loop(bd, n, (const int(*)[2])lf);
+    cb_build_polygon_face(bd, back[0], ydir, xdir, n, (const double(*)[3])back);
+    cb_build_loop(bd, n, (const int(*)[2])lk);
+}

@@ -60,6 +60,11 @@ void cb_build_fillet_face(cb_build *bd, const double o[3], const double dir[3],
                           const double ref[3], double r, double len);
 /* The disc capping a solid arm at its end. */
 void cb_build_cap_face(cb_build *bd, const cb_build_tube *t);
+/* The two end faces of a profile extruded along y over [-hw, hw]: the profile's n points
+ * (x, z), clockwise seen from +y; ef[k] and ek[k] the edges of segment k at y = -hw and +hw,
+ * running from point k to k + 1 when fwd[k], else back. n <= 16. */
+void cb_build_profile_ends(cb_build *bd, int n, const double (*pt)[2], double hw, const int *ef,
+                           const int *ek, const int *fwd);
 /* Appends a loop of n (edge, sense) pairs in traversal order to the last face. */
 void cb_build_loop(cb_build *bd, int n, const int (*es)[2]);
 
