@@ -213,7 +213,8 @@ typedef struct {
  * it: nothing is guessed), restricted to both faces (cb_bool_cuts_make); each face of A and B
  * split in its (u, v) domain along its cuts (the 2D arrangement of its loop polygon and cuts,
  * boolean/arrange.h); each region classified by a point inside it against the other solid
- * (cb_bool_solid_classify) and kept as the operation selects (union: outside, intersection:
+ * (cb_bool_solid_classify; when that point lies on the other solid, by points beside it, so a
+ * contact line through the region does not decide) and kept as the operation selects (union: outside, intersection:
  * inside, difference: A's outside and B's inside, turned). Coincident faces (one surface, as the
  * SSI reports them): each is also split along the other's edges where they lie inside it
  * (boolean/imprint.c), and a region lying on the other solid keeps one copy, A's, where the
@@ -221,8 +222,8 @@ typedef struct {
  * are opposite in A - B. Intersection curves running along a face's boundary or along such an
  * imprint are left out of that face's split. The kept regions become faces on
  * copies of their surfaces, their boundary pieces edges on copies of the original edge
- * curves, their cuts degree-1 B-spline edges through the intersection points with degree-1
- * pcurves; pieces are sewn into shared edges where their end vertices (welded within
+ * curves, their cuts cubic Hermite B-spline edges through the intersection points with pcurves
+ * of the same kind (cb_bool_cut_curve); pieces are sewn into shared edges where their end vertices (welded within
  * CB_BOOL_WELD tol) and curves agree, after a piece that would find no partner is split at
  * the ends of other such pieces lying on it (the faces along one curve need not be split at the
  * same points when coincident faces meet a third one); the other pcurves are computed
@@ -234,8 +235,8 @@ typedef struct {
  * Not handled yet, reported and never guessed: a region touching the other solid where the
  * faces are not coincident (normals not within acos 0.9: CB_ERR_UNSUPPORTED), faces lying on one
  * surface only in part (CB_ERR_UNSUPPORTED), pieces that do not sew up (CB_ERR_NUMERIC with the
- * count). Isolated touching points do not split faces; solids touching along a curve give a
- * union whose shell touches itself along it. ctx: threads for the SSI, progress (stage "boolean"),
+ * count). Isolated touching points do not split faces; operands touching along a curve or at
+ * points give a union of solids that touch there, as the exact union does. ctx: threads for the SSI, progress (stage "boolean"),
  * cancellation between faces; may be NULL. stats may be NULL. */
 cb_status cb_bool_run(cb_topo_body **out, cb_bool_stats *stats, cb_bool_op op,
                       const cb_topo_body *A, const cb_topo_body *B, const cb_bool_opts *opts,
