@@ -426,6 +426,7 @@ cb_status cb_bool_run(cb_topo_body **out, cb_bool_stats *stats, cb_bool_op op,
     so.tol = tol;
     so.chord = chord;
     so.threads = threads;
+    so.cancel = ctx;
     cb_ssi_result_t r;
     cb_ssi_result_init(r);
     cb_status st = cb_ssi_bodies(r, A, B, &so, err);

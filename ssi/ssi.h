@@ -55,6 +55,7 @@
 #define CB_SSI_SSI_H
 
 #include "brep/analytic.h"
+#include "brep/context.h"
 #include "brep/nurbs.h"
 #include "brep/topo.h"
 #include "ssi/curve_topo.h"
@@ -104,6 +105,9 @@ typedef struct {
                       and cylinders (cb_analytic_to_nurbs nets, control points within 1e-3 tol)
                       take the analytic closed forms when one decides the pair (ssi_recog.c);
                       0: always the B-spline routes */
+    const cb_context *cancel; /* NULL (default), or a context whose cancellation
+                                 (cb_context_cancel) cb_ssi_bodies checks before each face
+                                 pair: it then stops with CB_ERR_CANCELLED */
 } cb_ssi_opts;
 
 void cb_ssi_opts_default(cb_ssi_opts *o);

@@ -38,6 +38,7 @@ void cb_ssi_opts_default(cb_ssi_opts *o)
     o->spline_max_depth = 20;
     o->spline_max_subpairs = 20000;
     o->recognise = 1;
+    o->cancel = NULL;
 }
 
 static double now_s(void)

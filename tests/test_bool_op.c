@@ -592,7 +592,8 @@ static void test_shells(void)
 }
 
 /* Cancellation: a progress callback that cancels at its first report (after the intersection
- * stage) stops the operation with CB_ERR_CANCELLED and no result. */
+ * stage) stops the operation with CB_ERR_CANCELLED and no result; so does a context cancelled
+ * before the call, in the intersection stage. */
 static void cancel_at_first(void *user, double fraction, const char *stage)
 {
     (void)fraction;
@@ -614,6 +615,14 @@ static void test_cancel(void)
         cb_status st = cb_bool_run(&res, NULL, CB_BOOL_UNION, A, B, NULL, &ctx, &err);
         CHECK(st == CB_ERR_CANCELLED && !res && strstr(err.msg, "cancelled"),
               "cancelled union: status %d, %s", st, err.msg);
+        cb_topo_body_free(res);
+        /* Cancelled before it starts: the intersection stage stops at its first face pair. */
+        cb_context_init(&ctx);
+        cb_context_cancel(&ctx);
+        res = NULL;
+        st = cb_bool_run(&res, NULL, CB_BOOL_UNION, A, B, NULL, &ctx, &err);
+        CHECK(st == CB_ERR_CANCELLED && !res && strstr(err.msg, "ssi: cancelled"),
+              "union cancelled beforehand: status %d, %s", st, err.msg);
         cb_topo_body_free(res);
     }
     cb_topo_body_free(A);
