@@ -69,7 +69,7 @@ static const char MODEL_USAGE[] =
     "  --list               cardan: list the scenarios with their contacts\n"
     "  --estimate N         hummingbird-pair: the volume estimate on an N x N grid (N even)\n"
     "  --threads T          threads for --estimate (default 0: all hardware threads)\n"
-    "  --reference          print the reference table of the Cardan parts and scenarios as JSON\n"
+    "  --reference          print the reference table of the shipped models and scenarios as JSON\n"
     "                       (the text of models/reference.json)\n"
     "\n"
     "Cardan parts also print their volume from its closed form (model units^3). A scenario's\n"

@@ -230,9 +230,11 @@ cb_status cb_cardan_scenario_find(cb_cardan_scenario *s, const char *name, cb_er
 cb_status cb_cardan_scenario_volumes(cb_cardan_volumes *v, const cb_cardan_scenario *s,
                                      cb_error *err);
 
-/* The reference table models/reference.json holds, as JSON text: the default parts with their
- * counts and volumes, then every scenario with its poses, closed form and the six volumes of
- * cb_cardan_scenario_volumes, to 17 significant digits. *out is a NUL-terminated string the
+/* The reference table models/reference.json holds, as JSON text: the default Cardan parts with
+ * their counts and volumes, every Cardan scenario with its poses, closed form and the six
+ * volumes of cb_cardan_scenario_volumes; the bracket and its scenarios (B's cylinder and the
+ * six volumes); the two hummingbirds (B's translation and cb_hummingbird_pair_reference); to
+ * 17 significant digits. *out is a NUL-terminated string the
  * caller releases with free(); CB_ERR_NOMEM leaves it NULL. */
 cb_status cb_cardan_reference_json(char **out, cb_error *err);
 
@@ -270,6 +272,19 @@ double cb_bracket_volume(const cb_bracket_shape *s);
  * (0 < t < L, H; w > 0; f > 0, t + f < L, H; 0 < r < w/2; each hole clear of the fillet and of
  * its leg's end), CB_ERR_NOMEM. */
 cb_status cb_model_bracket(cb_topo_body **out, const cb_bracket_params *p, cb_error *err);
+
+/* The solid cylinder B of bracket scenario k (0: bracket_bolt, 1: bracket_rod), in the
+ * bracket's frame (default shape): the circle at origin with unit axis and the seam towards
+ * ref, radius, length. It only touches the bracket: V(A n B) = 0. */
+typedef struct {
+    double origin[3], axis[3], ref[3];
+    double radius, length;
+} cb_bracket_cylinder;
+
+int cb_bracket_scenario_count(void);
+/* Fills c for scenario k in 0 .. count - 1 and returns its name. */
+const char *cb_bracket_scenario_cylinder(cb_bracket_cylinder *c, int k);
+double cb_bracket_cylinder_volume(const cb_bracket_cylinder *c);
 
 /* ---------------------------------------------------------------- scenarios ---------------- */
 

@@ -13,9 +13,45 @@
 enum { N_BRACKET = 2 };
 static const char *const bracket_names[N_BRACKET] = {"bracket_bolt", "bracket_rod"};
 
+double cb_bracket_cylinder_volume(const cb_bracket_cylinder *c)
+{
+    return 3.14159265358979323846 * c->radius * c->radius * c->length;
+}
+
 int cb_model_scenario_count(void)
 {
     return 1 + 2 * cb_cardan_scenario_count() + 2 * N_BRACKET;
+}
+
+int cb_bracket_scenario_count(void)
+{
+    return N_BRACKET;
+}
+
+const char *cb_bracket_scenario_cylinder(cb_bracket_cylinder *c, int k)
+{
+    cb_bracket_params p;
+    cb_bracket_params_default(&p);
+    const cb_bracket_shape *b = &p.shape;
+    memset(c, 0, sizeof *c);
+    if (k == 0) {
+        /* Through the hole, from a thickness below to two above the leg's bottom. */
+        c->radius = b->hole_radius;
+        c->length = 3 * b->thickness;
+        c->origin[0] = b->hole_x;
+        c->origin[2] = -b->thickness;
+        c->axis[2] = 1;
+        c->ref[1] = 1;
+    } else {
+        /* In the corner, on the fillet's axis, half a unit past the bracket on each side. */
+        c->radius = b->fillet;
+        c->length = b->width + 1;
+        c->origin[0] = c->origin[2] = b->thickness + b->fillet;
+        c->origin[1] = -0.5 * b->width - 0.5;
+        c->axis[1] = 1;
+        c->ref[0] = 1;
+    }
+    return bracket_names[k];
 }
 
 static cb_status load_bracket(cb_model_scenario *s, int k, int nurbs, cb_error *err)
@@ -24,36 +60,19 @@ static cb_status load_bracket(cb_model_scenario *s, int k, int nurbs, cb_error *
     cb_bracket_params_default(&p);
     p.as_nurbs = nurbs;
     const cb_bracket_shape *b = &p.shape;
-    double o[3], axis[3], ref[3], r, len;
-    if (k == 0) {
-        /* Through the hole, from half a thickness below to a thickness above the leg. */
-        r = b->hole_radius;
-        len = 3 * b->thickness;
-        const double o0[3] = {b->hole_x, 0, -b->thickness}, a0[3] = {0, 0, 1}, r0[3] = {0, 1, 0};
-        memcpy(o, o0, sizeof o);
-        memcpy(axis, a0, sizeof axis);
-        memcpy(ref, r0, sizeof ref);
-    } else {
-        /* In the corner, on the fillet's axis, half a unit past the bracket on each side. */
-        r = b->fillet;
-        len = b->width + 1;
-        double c = b->thickness + b->fillet;
-        const double o1[3] = {c, -0.5 * b->width - 0.5, c}, a1[3] = {0, 1, 0}, r1[3] = {1, 0, 0};
-        memcpy(o, o1, sizeof o);
-        memcpy(axis, a1, sizeof axis);
-        memcpy(ref, r1, sizeof ref);
-    }
+    cb_bracket_cylinder c;
+    cb_bracket_scenario_cylinder(&c, k);
     cb_frame f;
     cb_status st = cb_model_bracket(&s->a, &p, err);
     if (!st)
-        st = cb_frame_make(&f, o, axis, ref, err);
+        st = cb_frame_make(&f, c.origin, c.axis, c.ref, err);
     if (!st)
-        st = cb_prim_cylinder(&s->b, &f, r, len, nurbs, 0, err);
+        st = cb_prim_cylinder(&s->b, &f, c.radius, c.length, nurbs, 0, err);
     if (!st)
         st = cb_topo_compute_pcurves(s->b, s->b->tol, err);
     if (st)
         return st;
-    double va = cb_bracket_volume(b), vb = 3.14159265358979323846 * r * r * len;
+    double va = cb_bracket_volume(b), vb = cb_bracket_cylinder_volume(&c);
     s->ref[0] = va + vb;
     s->ref[1] = 0;
     s->ref[2] = va;
