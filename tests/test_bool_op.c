@@ -323,6 +323,21 @@ static void test_cardan(int as_nurbs)
 
 static void test_determinism(const cb_topo_body *A, const cb_topo_body *B);
 
+/* Two hummingbirds with pcurves on every coedge (the Booleans need them). */
+static cb_status two_birds(cb_topo_body **A, cb_topo_body **B, const cb_hummingbird_params *pa,
+                           const cb_hummingbird_params *pb, cb_error *err)
+{
+    cb_status st = cb_model_hummingbird(A, pa, err);
+    if (!st)
+        st = cb_model_hummingbird(B, pb, err);
+    if (!st)
+        st = cb_topo_compute_pcurves(*A, (*A)->tol, err);
+    if (!st)
+        st = cb_topo_compute_pcurves(*B, (*B)->tol, err);
+    CHECK(st == CB_OK, "hummingbird: %s", err->msg);
+    return st;
+}
+
 /* Two hummingbirds, the second moved (cb_hummingbird_pair): the volumes must satisfy
  * V(A u B) + V(A n B) = V(A) + V(B) and V(A - B) = V(A) - V(A n B), and V(A n B) must agree
  * with the reference estimate (vertical lines, no Boolean code) within three of its standard
@@ -333,14 +348,7 @@ static void test_birds(void)
     cb_hummingbird_pair(&pa, &pb);
     cb_topo_body *A = NULL, *B = NULL;
     cb_error err;
-    cb_status st = cb_model_hummingbird(&A, &pa, &err);
-    if (!st)
-        st = cb_model_hummingbird(&B, &pb, &err);
-    if (!st)
-        st = cb_topo_compute_pcurves(A, A->tol, &err);
-    if (!st)
-        st = cb_topo_compute_pcurves(B, B->tol, &err);
-    CHECK(st == CB_OK, "hummingbird: %s", err.msg);
+    cb_status st = two_birds(&A, &B, &pa, &pb, &err);
     if (!st) {
         cb_mass_props ma, mb;
         cb_mass_body(&ma, A, 1e-10, NULL, &err);
@@ -388,14 +396,7 @@ static void test_birds_fig12(void)
     pb.translate[2] = 0.15;
     cb_topo_body *A = NULL, *B = NULL;
     cb_error err;
-    cb_status st = cb_model_hummingbird(&A, &pa, &err);
-    if (!st)
-        st = cb_model_hummingbird(&B, &pb, &err);
-    if (!st)
-        st = cb_topo_compute_pcurves(A, A->tol, &err);
-    if (!st)
-        st = cb_topo_compute_pcurves(B, B->tol, &err);
-    CHECK(st == CB_OK, "hummingbird: %s", err.msg);
+    cb_status st = two_birds(&A, &B, &pa, &pb, &err);
     if (!st) {
         cb_mass_props ma, mb;
         cb_mass_body(&ma, A, 1e-10, NULL, &err);
