@@ -18,16 +18,25 @@ void _cb_ssi_piece_clear(_cb_ssi_piece *p)
     _cb_ssi_piece_init(p);
 }
 
-void _cb_ssi_piece_push(_cb_ssi_piece *p, const _cb_ssi_pq *q, const double X[3])
+cb_status _cb_ssi_piece_push(_cb_ssi_piece *p, const _cb_ssi_pq *q, const double X[3])
 {
     if (p->n == p->alloc) {
-        p->alloc = p->alloc ? 2 * p->alloc : 32;
-        p->pt = realloc(p->pt, (size_t)p->alloc * sizeof(*p->pt));
-        p->xyz = realloc(p->xyz, (size_t)p->alloc * 3 * sizeof(double));
+        /* alloc grows only once both arrays have: a larger pt alone is harmless. */
+        slong alloc = p->alloc ? 2 * p->alloc : 32;
+        _cb_ssi_pq *pt = realloc(p->pt, (size_t)alloc * sizeof(*pt));
+        if (!pt)
+            return CB_ERR_NOMEM;
+        p->pt = pt;
+        double *xyz = realloc(p->xyz, (size_t)alloc * 3 * sizeof(double));
+        if (!xyz)
+            return CB_ERR_NOMEM;
+        p->xyz = xyz;
+        p->alloc = alloc;
     }
     p->pt[p->n] = *q;
     memcpy(p->xyz + 3 * p->n, X, 3 * sizeof(double));
     p->n++;
+    return CB_OK;
 }
 
 void _cb_ssi_piece_set_init(_cb_ssi_piece_set *ps)
@@ -47,8 +56,12 @@ void _cb_ssi_piece_set_clear(_cb_ssi_piece_set *ps)
 _cb_ssi_piece *_cb_ssi_piece_set_add(_cb_ssi_piece_set *ps)
 {
     if (ps->n == ps->alloc) {
-        ps->alloc = ps->alloc ? 2 * ps->alloc : 8;
-        ps->p = realloc(ps->p, (size_t)ps->alloc * sizeof(*ps->p));
+        slong alloc = ps->alloc ? 2 * ps->alloc : 8;
+        _cb_ssi_piece *q = realloc(ps->p, (size_t)alloc * sizeof(*q));
+        if (!q)
+            return NULL;
+        ps->p = q;
+        ps->alloc = alloc;
     }
     _cb_ssi_piece_init(ps->p + ps->n);
     return ps->p + ps->n++;
@@ -461,27 +474,45 @@ static int keep_piece(const _cb_ssi_pair_geom *g, const double X[3])
     return in;
 }
 
-static void emit(_cb_ssi_piece_set *out, const sample *S, slong a, slong b, const sample *pre,
-                 const sample *post, int closed, int tangential, const _cb_ssi_pair_geom *g)
+/* Appends p's point s, widening p's gap. */
+static cb_status push_sample(_cb_ssi_piece *p, const sample *s)
+{
+    p->gap = FLINT_MAX(p->gap, s->gap);
+    return _cb_ssi_piece_push(p, &s->pq, s->X);
+}
+
+/* Moves pc, built with status st, into out; when st failed or out cannot grow, pc is freed,
+ * out is left as it was and the result is CB_ERR_NOMEM. */
+static cb_status take_piece(_cb_ssi_piece_set *out, _cb_ssi_piece *pc, cb_status st)
+{
+    _cb_ssi_piece *p = st == CB_OK ? _cb_ssi_piece_set_add(out) : NULL;
+    if (!p) {
+        _cb_ssi_piece_clear(pc);
+        return CB_ERR_NOMEM;
+    }
+    *p = *pc;
+    return CB_OK;
+}
+
+/* Appends S[a..b], after pre and before post, as one piece when keep_piece takes it;
+ * CB_ERR_NOMEM leaves out as it was. */
+static cb_status emit(_cb_ssi_piece_set *out, const sample *S, slong a, slong b,
+                      const sample *pre, const sample *post, int closed, int tangential,
+                      const _cb_ssi_pair_geom *g)
 {
     slong mid = (a + b) / 2;
     if (!keep_piece(g, S[mid].X))
-        return;
-    _cb_ssi_piece *p = _cb_ssi_piece_set_add(out);
-    p->closed = closed;
-    p->tangential = tangential;
-    if (pre) {
-        _cb_ssi_piece_push(p, &pre->pq, pre->X);
-        p->gap = FLINT_MAX(p->gap, pre->gap);
-    }
-    for (slong i = a; i <= b; i++) {
-        _cb_ssi_piece_push(p, &S[i].pq, S[i].X);
-        p->gap = FLINT_MAX(p->gap, S[i].gap);
-    }
-    if (post) {
-        _cb_ssi_piece_push(p, &post->pq, post->X);
-        p->gap = FLINT_MAX(p->gap, post->gap);
-    }
+        return CB_OK;
+    _cb_ssi_piece pc;
+    _cb_ssi_piece_init(&pc);
+    pc.closed = closed;
+    pc.tangential = tangential;
+    cb_status st = pre ? push_sample(&pc, pre) : CB_OK;
+    for (slong i = a; i <= b && st == CB_OK; i++)
+        st = push_sample(&pc, S + i);
+    if (st == CB_OK && post)
+        st = push_sample(&pc, post);
+    return take_piece(out, &pc, st);
 }
 
 /* The straight segment between the P parameters ua and ub passes within margin times the box
@@ -548,12 +579,13 @@ static void mid_sample(sample *m, const sample *a, const sample *b, const _cb_ss
 /* Appends to D the samples strictly between a and b needed so that no inside piece hides
  * between two outside samples: while both are outside and their P-parameter segment comes
  * within a quarter of P's box size of the box and is longer than DENSE_STEP of it, or crosses
- * the box itself and is longer than 1e-7 of it, the midpoint is inserted (depth <= 40). */
-static void densify(sample **D, slong *nd, slong *alloc, const sample *a, const sample *b,
-                    const _cb_ssi_pair_geom *g, int depth)
+ * the box itself and is longer than 1e-7 of it, the midpoint is inserted (depth <= 40).
+ * CB_ERR_NOMEM leaves D holding the samples appended so far. */
+static cb_status densify(sample **D, slong *nd, slong *alloc, const sample *a, const sample *b,
+                         const _cb_ssi_pair_geom *g, int depth)
 {
     if (depth >= 40 || a->in || b->in || !seg_near_box(g, a->pq.uv, b->pq.uv, 0.25))
-        return;
+        return CB_OK;
     double step = seg_near_box(g, a->pq.uv, b->pq.uv, 0) ? 1e-7 : DENSE_STEP;
     double len = 0;
     for (int i = 0; i < 2; i++) {
@@ -563,111 +595,140 @@ static void densify(sample **D, slong *nd, slong *alloc, const sample *a, const 
         len = fmax(len, fabs(b->pq.uv[i] - a->pq.uv[i]) / w);
     }
     if (len <= step)
-        return;
+        return CB_OK;
     sample m;
     mid_sample(&m, a, b, g);
-    densify(D, nd, alloc, a, &m, g, depth + 1);
+    if (densify(D, nd, alloc, a, &m, g, depth + 1) != CB_OK)
+        return CB_ERR_NOMEM;
     if (*nd == *alloc) {
+        sample *q = realloc(*D, (size_t)(2 * *alloc) * sizeof(sample));
+        if (!q)
+            return CB_ERR_NOMEM;
+        *D = q;
         *alloc *= 2;
-        *D = realloc(*D, (size_t)*alloc * sizeof(sample));
     }
     (*D)[(*nd)++] = m;
-    densify(D, nd, alloc, &m, b, g, depth + 1);
+    return densify(D, nd, alloc, &m, b, g, depth + 1);
 }
 
-void _cb_ssi_clip(_cb_ssi_piece_set *out, const _cb_ssi_trace_set *ts,
-                  const _cb_ssi_pair_geom *g)
+/* One traced curve of _cb_ssi_clip: its pieces appended to out. */
+static cb_status clip_curve(_cb_ssi_piece_set *out, const _cb_ssi_trace_curve *tc,
+                            const _cb_ssi_pair_geom *g)
 {
-    for (slong c = 0; c < ts->n; c++) {
-        const _cb_ssi_trace_curve *tc = ts->c + c;
-        slong n = tc->n;
-        if (n == 0)
-            continue;
-        sample *S = malloc((size_t)(n + 1) * sizeof(sample));
-        for (slong i = 0; i < n; i++) {
-            double X[3];
-            patch_eval(X, NULL, NULL, g->q, tc->st[2 * i], tc->st[2 * i + 1]);
-            _cb_ssi_pq pq = {{0, 0}, {tc->st[2 * i], tc->st[2 * i + 1]}, tc->fixed[i]};
-            if (i == 0 || !(S[i - 1].gap <= 10 * g->tol))
-                p_start(pq.uv, g, X);
-            else if (g->p_analytic)
-                analytic_invert(pq.uv, g, X, S[i - 1].pq.uv);
-            else {
-                memcpy(pq.uv, S[i - 1].pq.uv, sizeof pq.uv);
-                p_project(pq.uv, g, X);
-            }
-            S[i].gap = refine(&pq, S[i].X, g);
-            S[i].pq = pq;
-            S[i].in = inside_p(g, &pq, S[i].gap);
+    slong n = tc->n;
+    if (n == 0)
+        return CB_OK;
+    sample *S = malloc((size_t)(n + 1) * sizeof(sample));
+    if (!S)
+        return CB_ERR_NOMEM;
+    for (slong i = 0; i < n; i++) {
+        double X[3];
+        patch_eval(X, NULL, NULL, g->q, tc->st[2 * i], tc->st[2 * i + 1]);
+        _cb_ssi_pq pq = {{0, 0}, {tc->st[2 * i], tc->st[2 * i + 1]}, tc->fixed[i]};
+        if (i == 0 || !(S[i - 1].gap <= 10 * g->tol))
+            p_start(pq.uv, g, X);
+        else if (g->p_analytic)
+            analytic_invert(pq.uv, g, X, S[i - 1].pq.uv);
+        else {
+            memcpy(pq.uv, S[i - 1].pq.uv, sizeof pq.uv);
+            p_project(pq.uv, g, X);
         }
-        if (!tc->isolated && n > 1) {
-            /* A long traced chord between two outside samples (a straight line needs few) may
-             * cross P's box: sample it there. */
-            slong nd = 0, alloc = 2 * n + 2;
-            sample *D = malloc((size_t)alloc * sizeof(sample));
-            for (slong i = 0; i < n; i++) {
-                if (i > 0)
-                    densify(&D, &nd, &alloc, S + i - 1, S + i, g, 0);
-                if (nd + 1 >= alloc) {
-                    alloc *= 2;
-                    D = realloc(D, (size_t)alloc * sizeof(sample));
-                }
-                D[nd++] = S[i];
-            }
-            free(S);
-            S = D;
-            n = nd;
-            S = realloc(S, (size_t)(n + 1) * sizeof(sample));
-        }
-        if (tc->isolated) {
-            if (S[0].in && keep_piece(g, S[0].X)) {
-                _cb_ssi_piece *p = _cb_ssi_piece_set_add(out);
-                p->isolated = p->tangential = 1;
-                _cb_ssi_piece_push(p, &S[0].pq, S[0].X);
-                p->gap = S[0].gap;
-            }
-            free(S);
-            continue;
-        }
-        slong all_in = 1;
-        for (slong i = 0; i < n; i++)
-            all_in &= S[i].in;
-        if (all_in) {
-            emit(out, S, 0, n - 1, NULL, NULL, tc->closed, tc->tangential, g);
-            free(S);
-            continue;
-        }
-        if (tc->closed) {
-            /* Rotate the loop (its last point repeats the first) to start outside. */
-            slong k = 0;
-            while (S[k].in)
-                k++;
-            sample *R = malloc((size_t)n * sizeof(sample));
-            for (slong i = 0; i < n - 1; i++)
-                R[i] = S[(k + i) % (n - 1)];
-            R[n - 1] = R[0];
-            free(S);
-            S = R;
-        }
-        for (slong i = 0; i < n;) {
-            if (!S[i].in) {
-                i++;
-                continue;
-            }
-            slong j = i;
-            while (j + 1 < n && S[j + 1].in)
-                j++;
-            sample pre, post;
+        S[i].gap = refine(&pq, S[i].X, g);
+        S[i].pq = pq;
+        S[i].in = inside_p(g, &pq, S[i].gap);
+    }
+    if (!tc->isolated && n > 1) {
+        /* A long traced chord between two outside samples (a straight line needs few) may
+         * cross P's box: sample it there. */
+        slong nd = 0, alloc = 2 * n + 2;
+        sample *D = malloc((size_t)alloc * sizeof(sample));
+        cb_status st = D ? CB_OK : CB_ERR_NOMEM;
+        for (slong i = 0; i < n && st == CB_OK; i++) {
             if (i > 0)
-                split_point(&pre.pq, pre.X, &pre.gap, g, &S[i].pq, S[i].X, S[i].gap,
-                            &S[i - 1].pq);
-            if (j + 1 < n)
-                split_point(&post.pq, post.X, &post.gap, g, &S[j].pq, S[j].X, S[j].gap,
-                            &S[j + 1].pq);
-            emit(out, S, i, j, i > 0 ? &pre : NULL, j + 1 < n ? &post : NULL, 0,
-                 tc->tangential, g);
-            i = j + 1;
+                st = densify(&D, &nd, &alloc, S + i - 1, S + i, g, 0);
+            if (st == CB_OK && nd + 1 >= alloc) {
+                sample *q = realloc(D, (size_t)(2 * alloc) * sizeof(sample));
+                if (q) {
+                    D = q;
+                    alloc *= 2;
+                } else {
+                    st = CB_ERR_NOMEM;
+                }
+            }
+            if (st == CB_OK)
+                D[nd++] = S[i];
         }
         free(S);
+        if (st != CB_OK) {
+            free(D);
+            return st;
+        }
+        S = D;
+        n = nd;
     }
+    if (tc->isolated) {
+        cb_status st = CB_OK;
+        if (S[0].in && keep_piece(g, S[0].X)) {
+            _cb_ssi_piece pc;
+            _cb_ssi_piece_init(&pc);
+            pc.isolated = pc.tangential = 1;
+            st = take_piece(out, &pc, push_sample(&pc, S));
+        }
+        free(S);
+        return st;
+    }
+    slong all_in = 1;
+    for (slong i = 0; i < n; i++)
+        all_in &= S[i].in;
+    if (all_in) {
+        cb_status st = emit(out, S, 0, n - 1, NULL, NULL, tc->closed, tc->tangential, g);
+        free(S);
+        return st;
+    }
+    if (tc->closed) {
+        /* Rotate the loop (its last point repeats the first) to start outside. */
+        slong k = 0;
+        while (S[k].in)
+            k++;
+        sample *R = malloc((size_t)n * sizeof(sample));
+        if (!R) {
+            free(S);
+            return CB_ERR_NOMEM;
+        }
+        for (slong i = 0; i < n - 1; i++)
+            R[i] = S[(k + i) % (n - 1)];
+        R[n - 1] = R[0];
+        free(S);
+        S = R;
+    }
+    cb_status st = CB_OK;
+    for (slong i = 0; i < n && st == CB_OK;) {
+        if (!S[i].in) {
+            i++;
+            continue;
+        }
+        slong j = i;
+        while (j + 1 < n && S[j + 1].in)
+            j++;
+        sample pre, post;
+        if (i > 0)
+            split_point(&pre.pq, pre.X, &pre.gap, g, &S[i].pq, S[i].X, S[i].gap, &S[i - 1].pq);
+        if (j + 1 < n)
+            split_point(&post.pq, post.X, &post.gap, g, &S[j].pq, S[j].X, S[j].gap,
+                        &S[j + 1].pq);
+        st = emit(out, S, i, j, i > 0 ? &pre : NULL, j + 1 < n ? &post : NULL, 0, tc->tangential,
+                  g);
+        i = j + 1;
+    }
+    free(S);
+    return st;
+}
+
+cb_status _cb_ssi_clip(_cb_ssi_piece_set *out, const _cb_ssi_trace_set *ts,
+                       const _cb_ssi_pair_geom *g)
+{
+    cb_status st = CB_OK;
+    for (slong c = 0; c < ts->n && st == CB_OK; c++)
+        st = clip_curve(out, ts->c + c, g);
+    return st;
 }

@@ -621,7 +621,8 @@ static void point_xyz(double X[3], const march_ctx *m, const double x[4])
         X[q] = 0.5 * (A[q] + B[q]);
 }
 
-static void push(_cb_ssi_piece *pc, const march_ctx *m, const double x[4])
+/* Appends the point x of both patches to pc; CB_ERR_NOMEM. */
+static cb_status push(_cb_ssi_piece *pc, const march_ctx *m, const double x[4])
 {
     double X[3], A[3], B[3], d1[3], d2[3];
     _cb_ssi_bez_eval(A, d1, d2, m->P, x[0], x[1]);
@@ -637,8 +638,8 @@ static void push(_cb_ssi_piece *pc, const march_ctx *m, const double x[4])
     q.uv[1] = dp[2] + x[1] * (dp[3] - dp[2]);
     q.st[0] = dq[0] + x[2] * (dq[1] - dq[0]);
     q.st[1] = dq[2] + x[3] * (dq[3] - dq[2]);
-    _cb_ssi_piece_push(pc, &q, X);
     pc->gap = fmax(pc->gap, gap);
+    return _cb_ssi_piece_push(pc, &q, X);
 }
 
 static double seg_dist(const double p[3], const double a[3], const double b[3])
@@ -654,7 +655,8 @@ static double seg_dist(const double p[3], const double a[3], const double b[3])
     return sqrt(d);
 }
 
-/* Marches the single branch from entry a to exit b; 1 on success (piece appended). */
+/* Marches the single branch from entry a to exit b; 1 on success (piece appended), 0 when
+ * marching fails, -1 when out of memory (nothing appended either way). */
 static int march(_cb_ssi_piece_set *out, const march_ctx *m, const bpt *a, const bpt *b,
                  double chord, double max_seg)
 {
@@ -663,11 +665,10 @@ static int march(_cb_ssi_piece_set *out, const march_ctx *m, const bpt *a, const
         return 0;
     _cb_ssi_piece pc;
     _cb_ssi_piece_init(&pc);
-    push(&pc, m, a->x);
+    int ok = push(&pc, m, a->x) == CB_OK ? 1 : -1;
     double x[4], h = a->h, dh = span / 2;
     memcpy(x, a->x, sizeof x);
-    int ok = 1;
-    while (ok) {
+    while (ok == 1) {
         if (dh < span * 1e-9) {
             ok = 0;
             break;
@@ -705,20 +706,23 @@ static int march(_cb_ssi_piece_set *out, const march_ctx *m, const bpt *a, const
             dh *= 0.5;
             continue;
         }
-        push(&pc, m, xn);
+        if (push(&pc, m, xn) != CB_OK) {
+            ok = -1;
+            break;
+        }
         memcpy(x, xn, sizeof x);
         h = hn;
         if (last)
             break;
         dh *= 1.5;
     }
-    if (ok) {
-        _cb_ssi_piece *p = _cb_ssi_piece_set_add(out);
+    _cb_ssi_piece *p = ok == 1 ? _cb_ssi_piece_set_add(out) : NULL;
+    if (p) {
         *p = pc;
-    } else {
-        _cb_ssi_piece_clear(&pc);
+        return 1;
     }
-    return ok;
+    _cb_ssi_piece_clear(&pc);
+    return ok == 1 ? -1 : ok;
 }
 
 /* ---------------------------------------------------------------- the pair ----------------- */
@@ -819,10 +823,13 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
                 march_ctx mc = {P, Q, {e[0], e[1], e[2]}, a->box, b->box, o->tol};
                 const bpt *en = bp[0].entry ? bp : bp + 1, *ex = bp[0].entry ? bp + 1 : bp;
                 st->branches++;
-                if (!march(out, &mc, en, ex, o->chord, o->max_seg)) {
+                int marched = march(out, &mc, en, ex, o->chord, o->max_seg);
+                if (marched < 0)
+                    st->nomem = 1;
+                if (marched == 0)
                     st->march_failed++;
+                if (marched <= 0)
                     uncertified(st, a, b);
-                }
             }
             continue;
         }

@@ -187,7 +187,8 @@ typedef struct {
     cb_ssi_coincident *coincident;
 
     cb_status status;       /* CB_OK when every patch pair was certified, else the status of
-                               the first failure (in pair order) */
+                               the first failure (in pair order), or CB_ERR_NOMEM when that
+                               failure could not be listed in failed */
     slong pairs_total;      /* patch pairs considered */
     slong pairs_culled;     /* separated oriented boxes (section 4.1) */
     slong pairs_empty;      /* phi proved sign-definite by its Bernstein coefficients */
@@ -218,8 +219,11 @@ void cb_ssi_result_clear(cb_ssi_result_t r);
  * limited to the other's box; both unbounded is CB_ERR_INVALID). Curves of the closed forms are
  * clipped to both ranges with a slack of 1e-12 times the size (a curve on a range's end is
  * kept) and pieces shorter than 10 tol are dropped. Returns CB_OK even when some patch pairs
- * are not certified (see r->status and r->failed); an error return (invalid input, no memory)
- * leaves r's earlier content and adds nothing. The counters of r are added to. */
+ * are not certified (see r->status and r->failed; a pair that ran out of memory is one of them,
+ * with CB_ERR_NOMEM); an error return for invalid input leaves r's earlier content and adds
+ * nothing, while CB_ERR_NOMEM (no room for the output itself, or for a failure record) may
+ * leave part of this pair's output in r, which is then only good for clearing. The counters of
+ * r are added to. */
 cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_ssi_surface *B,
                           int face_a, int face_b, const cb_ssi_opts *opts, cb_error *err);
 
@@ -255,7 +259,8 @@ typedef struct {
 
 void _cb_ssi_piece_init(_cb_ssi_piece *p);
 void _cb_ssi_piece_clear(_cb_ssi_piece *p);
-void _cb_ssi_piece_push(_cb_ssi_piece *p, const _cb_ssi_pq *q, const double X[3]);
+/* Appends a point; CB_ERR_NOMEM leaves p as it was. */
+cb_status _cb_ssi_piece_push(_cb_ssi_piece *p, const _cb_ssi_pq *q, const double X[3]);
 
 typedef struct {
     slong n, alloc;
@@ -264,6 +269,7 @@ typedef struct {
 
 void _cb_ssi_piece_set_init(_cb_ssi_piece_set *ps);
 void _cb_ssi_piece_set_clear(_cb_ssi_piece_set *ps);
+/* A new empty piece at the end of ps; NULL when out of memory (ps is left as it was). */
 _cb_ssi_piece *_cb_ssi_piece_set_add(_cb_ssi_piece_set *ps);
 
 /* A curve in Q's local patch box [0,1]^2 from the tracer: sigma, tau per point, and the
@@ -285,7 +291,8 @@ void _cb_ssi_trace_set_init(_cb_ssi_trace_set *ts);
 void _cb_ssi_trace_set_clear(_cb_ssi_trace_set *ts);
 
 /* The squarefree part of phi without its content in t, as doubles for tracing: hd[i (dt+1)
- * + j] multiplies s^i t^j, scaled so that the largest is about 1. */
+ * + j] multiplies s^i t^j, scaled so that the largest is about 1. _cb_ssi_sqf_set: CB_OK or
+ * CB_ERR_NOMEM (hd then NULL). */
 typedef struct {
     slong ds, dt;
     double *hd;
@@ -293,7 +300,7 @@ typedef struct {
 
 void _cb_ssi_sqf_init(_cb_ssi_sqf *h);
 void _cb_ssi_sqf_clear(_cb_ssi_sqf *h);
-void _cb_ssi_sqf_set(_cb_ssi_sqf *h, const fmpz_mpoly_t phi, const fmpz_mpoly_ctx_t ctx);
+cb_status _cb_ssi_sqf_set(_cb_ssi_sqf *h, const fmpz_mpoly_t phi, const fmpz_mpoly_ctx_t ctx);
 
 /* Sharpens the double t of the vertices of T whose certified t-box is not a point (the topology
  * stage leaves such boxes as wide as their certification needed, up to a quarter of the box):
@@ -320,9 +327,11 @@ typedef void (*_cb_ssi_lift_fn)(double X[3], const void *ctx, double sigma, doub
  * between consecutive vertices, h(s, .) has the same number of roots in [0, 1] for every s
  * strictly between them (no critical value there), so the branch is the root of a fixed rank;
  * the rank is read at the edge's regular end point and kept, which is what makes jumping to
- * another branch impossible. Vertical edges are sampled along t. */
-void _cb_ssi_trace(_cb_ssi_trace_set *out, const cb_ctopo_t T, const _cb_ssi_sqf *h,
-                   _cb_ssi_lift_fn lift, const void *lift_ctx, double chord, double max_seg);
+ * another branch impossible. Vertical edges are sampled along t. CB_ERR_NOMEM may leave out
+ * with part of the curves. */
+cb_status _cb_ssi_trace(_cb_ssi_trace_set *out, const cb_ctopo_t T, const _cb_ssi_sqf *h,
+                        _cb_ssi_lift_fn lift, const void *lift_ctx, double chord,
+                        double max_seg);
 
 /* The two sides of one patch pair, in local parameters: [0,1]^2 for Bezier patches (mapped
  * to the surfaces' domains only in the output), the own parameters for an analytic P. */
@@ -349,9 +358,10 @@ void _cb_ssi_lift(double X[3], const void *geom, double sigma, double tau);
  * representative (middle) point lies inside: for a spline P decided by the Dixon inversion
  * cb_inversion_solve, for an analytic P by its own parameters. Points are refined by
  * Gauss-Newton with minimum-norm steps on P(u, v) = Q(s, t), parameters on patch sides held
- * fixed, until |P - Q| <= tol / 100 or no progress; the point reported is the midpoint. */
-void _cb_ssi_clip(_cb_ssi_piece_set *out, const _cb_ssi_trace_set *ts,
-                  const _cb_ssi_pair_geom *g);
+ * fixed, until |P - Q| <= tol / 100 or no progress; the point reported is the midpoint.
+ * CB_ERR_NOMEM may leave out with part of the pieces (each of them whole). */
+cb_status _cb_ssi_clip(_cb_ssi_piece_set *out, const _cb_ssi_trace_set *ts,
+                       const _cb_ssi_pair_geom *g);
 
 /* Joins the pieces of all patch pairs (sets, in pair order; parameters already in the
  * surfaces' domains) into maximal curves appended to r: end points closer than merge_tol form
@@ -359,17 +369,19 @@ void _cb_ssi_clip(_cb_ssi_piece_set *out, const _cb_ssi_trace_set *ts,
  * piece whose ends match an earlier piece's and whose middle is within chord + merge_tol of it (a curve on a patch boundary shared by
  * two pairs) is dropped, as is an isolated point at a node or at an earlier isolated point.
  * swapped: P is B (so uv goes to uv_b). Curves start at their lowest piece, so the output
- * depends only on the order of sets. */
-void _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong nsets, int swapped,
-                    int face_a, int face_b, double merge_tol, double chord);
+ * depends only on the order of sets. CB_ERR_NOMEM may leave part of the curves in r. */
+cb_status _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong nsets,
+                         int swapped, int face_a, int face_b, double merge_tol, double chord);
 
-/* Appends a coincidence record (patch_pairs 1, whole 1, same_face_normal = same_normal). */
+/* Appends a coincidence record (patch_pairs 1, whole 1, same_face_normal = same_normal); NULL
+ * when out of memory (r is left as it was). */
 cb_ssi_coincident *_cb_ssi_add_coincident(cb_ssi_result_t r, int fa, int fb, int pa, int pb,
                                           int same_normal, const double xyz[3]);
 
 /* Appends everything s holds to r (curves, points, failures, coincidence records; counters
- * added, distances maxed) and leaves s without them. */
-void _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s);
+ * added, distances maxed) and leaves s without them. CB_ERR_NOMEM may have moved part of s
+ * (a curve is then in r or in s, never both, so clearing both frees everything once). */
+cb_status _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s);
 
 /* B-spline faces that are exact rational forms of analytic surfaces (ssi_recog.c).
  * _cb_ssi_recognise: 1 when s is, up to delta in its Euclidean control points and 1e-12
@@ -379,7 +391,8 @@ void _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s);
  * _cb_ssi_recognised_pair: when every NURBS side of A, B is recognised (control points within
  * 1e-3 tol) and the analytic pair is decided by a closed form without failures, appends that
  * result with the parameters mapped to the B-spline parameterisations and sets *done; otherwise
- * appends nothing (*done = 0) and the caller takes the B-spline route. */
+ * appends nothing (*done = 0) and the caller takes the B-spline route. CB_ERR_NOMEM when
+ * r has no room for that result (part of it may be in r). */
 int _cb_ssi_recognise(cb_analytic_surface *a, double range[4], const cb_nurbs_surface_struct *s,
                       double delta);
 void _cb_ssi_recog_param(double out[2], const cb_nurbs_surface_struct *s,
@@ -393,8 +406,11 @@ cb_status _cb_ssi_analytic_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
                                 const cb_ssi_surface *B, int face_a, int face_b,
                                 const cb_ssi_opts *opts, cb_error *err);
 
-/* Appends a failure record to r (and sets r->status if it was CB_OK). */
-void _cb_ssi_add_failure(cb_ssi_result_t r, int fa, int fb, int pa, int pb, cb_status st,
-                         const char *msg);
+/* Appends a failure record to r and sets r->status to st if it was CB_OK. CB_ERR_NOMEM when
+ * the record cannot be stored: r->status is then set to CB_ERR_NOMEM if it was CB_OK, so r never
+ * reads as certified, and the caller must fail with CB_ERR_NOMEM, since a failure missing
+ * from r->failed would otherwise go unseen by readers that count n_failed. */
+cb_status _cb_ssi_add_failure(cb_ssi_result_t r, int fa, int fb, int pa, int pb, cb_status st,
+                              const char *msg);
 
 #endif

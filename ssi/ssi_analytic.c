@@ -338,18 +338,18 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Lifts X onto both surfaces and appends it to the piece. */
-static void piece_add(_cb_ssi_piece *pc, const actx *g, const double X[3])
+/* Lifts X onto both surfaces and appends it to the piece; CB_ERR_NOMEM. */
+static cb_status piece_add(_cb_ssi_piece *pc, const actx *g, const double X[3])
 {
     _cb_ssi_pq q;
     memset(&q, 0, sizeof q);
     ainvert(q.uv, g->s, X);
     ainvert(q.st, g->s + 1, X);
-    _cb_ssi_piece_push(pc, &q, X);
+    return _cb_ssi_piece_push(pc, &q, X);
 }
 
-static void sample_rec(_cb_ssi_piece *pc, const actx *g, const prim *c, double ta,
-                       const double Xa[3], double tb, const double Xb[3], int depth)
+static cb_status sample_rec(_cb_ssi_piece *pc, const actx *g, const prim *c, double ta,
+                            const double Xa[3], double tb, const double Xb[3], int depth)
 {
     double tm = 0.5 * (ta + tb), Xm[3], mid[3];
     prim_eval(Xm, c, tm);
@@ -360,19 +360,20 @@ static void sample_rec(_cb_ssi_piece *pc, const actx *g, const prim *c, double t
     double dev = sqrt((Xm[0] - mid[0]) * (Xm[0] - mid[0]) + (Xm[1] - mid[1]) * (Xm[1] - mid[1]) +
                       (Xm[2] - mid[2]) * (Xm[2] - mid[2]));
     if (depth < 40 && (seg > g->max_seg || dev > g->chord)) {
-        sample_rec(pc, g, c, ta, Xa, tm, Xm, depth + 1);
-        sample_rec(pc, g, c, tm, Xm, tb, Xb, depth + 1);
-        return;
+        if (sample_rec(pc, g, c, ta, Xa, tm, Xm, depth + 1) != CB_OK)
+            return CB_ERR_NOMEM;
+        return sample_rec(pc, g, c, tm, Xm, tb, Xb, depth + 1);
     }
-    piece_add(pc, g, Xb);
+    return piece_add(pc, g, Xb);
 }
 
 /* The curve over [ta, tb] as a piece, chords within chord and max_seg (curved primitives
  * start from chords of at most pi/8 of their parameter, so no chord test is fooled). A piece
  * shorter than 10 tol (where a curve touches a range's end) is dropped, as the algebraic route
- * drops pieces that do not leave their start node. */
-static void emit_piece(_cb_ssi_piece_set *out, const actx *g, const prim *c, double ta, double tb,
-                       int closed)
+ * drops pieces that do not leave their start node. CB_ERR_NOMEM may leave the piece part
+ * built. */
+static cb_status emit_piece(_cb_ssi_piece_set *out, const actx *g, const prim *c, double ta,
+                            double tb, int closed)
 {
     double len = 0, Y0[3], Y1[3];
     prim_eval(Y0, c, ta);
@@ -383,35 +384,38 @@ static void emit_piece(_cb_ssi_piece_set *out, const actx *g, const prim *c, dou
         memcpy(Y0, Y1, sizeof Y0);
     }
     if (len <= 10 * g->tol)
-        return;
+        return CB_OK;
     _cb_ssi_piece *pc = _cb_ssi_piece_set_add(out);
+    if (!pc)
+        return CB_ERR_NOMEM;
     pc->closed = closed;
     pc->tangential = c->tangential;
     int nseg = c->kind == PR_LINE ? 1 : (int)fmax(2, ceil((tb - ta) / (PI / 8)));
     double Xa[3];
     prim_eval(Xa, c, ta);
-    piece_add(pc, g, Xa);
-    for (int i = 1; i <= nseg; i++) {
+    cb_status st = piece_add(pc, g, Xa);
+    for (int i = 1; i <= nseg && st == CB_OK; i++) {
         double t = i == nseg ? tb : ta + (tb - ta) * i / nseg, X[3];
         prim_eval(X, c, t);
         if (closed && i == nseg)
             memcpy(X, pc->xyz, sizeof X); /* the loop ends exactly where it starts */
-        sample_rec(pc, g, c, ta + (tb - ta) * (i - 1) / nseg, Xa, t, X, 0);
+        st = sample_rec(pc, g, c, ta + (tb - ta) * (i - 1) / nseg, Xa, t, X, 0);
         memcpy(Xa, X, sizeof Xa);
     }
+    return st;
 }
 
 /* Clips the curve to both ranges (margin >= 0) and appends its pieces. The parameter interval
  * is sampled at 256 points; every sign change of the margin is refined by bisection, and every
  * sampled local minimum above zero (maximum below) is searched by golden section for a dip
- * through zero between the samples, so short excursions are not stepped over. */
-static void clip_prim(_cb_ssi_piece_set *out, const actx *g, const prim *c)
+ * through zero between the samples, so short excursions are not stepped over. CB_ERR_NOMEM. */
+static cb_status clip_prim(_cb_ssi_piece_set *out, const actx *g, const prim *c)
 {
     enum { NS = 256 };
     int per = prim_periodic(c);
     double t0 = per ? 0 : c->t0, t1 = per ? 2 * PI : c->t1;
     if (!(t1 > t0))
-        return;
+        return CB_OK;
     double ts[NS + 1], ms[NS + 1], roots[4 * NS + 8];
     int nr = 0;
     for (int i = 0; i <= NS; i++) {
@@ -451,38 +455,39 @@ static void clip_prim(_cb_ssi_piece_set *out, const actx *g, const prim *c)
         if (m == 0 || roots[k] - roots[m - 1] > 1e-13 * (t1 - t0))
             roots[m++] = roots[k];
     nr = m;
+    cb_status st = CB_OK;
     if (per) {
-        if (nr == 0) {
-            if (margin(g, c, t0) >= 0)
-                emit_piece(out, g, c, t0, t1, 1);
-            return;
-        }
-        for (int k = 0; k < nr; k++) {
+        if (nr == 0)
+            return margin(g, c, t0) >= 0 ? emit_piece(out, g, c, t0, t1, 1) : CB_OK;
+        for (int k = 0; k < nr && st == CB_OK; k++) {
             double a = roots[k], b = k + 1 < nr ? roots[k + 1] : roots[0] + (t1 - t0);
             if (b - a > 1e-12 * (t1 - t0) && margin(g, c, 0.5 * (a + b)) >= 0)
-                emit_piece(out, g, c, a, b, 0);
+                st = emit_piece(out, g, c, a, b, 0);
         }
-        return;
+        return st;
     }
     double prev = t0;
-    for (int k = 0; k <= nr; k++) {
+    for (int k = 0; k <= nr && st == CB_OK; k++) {
         double b = k < nr ? roots[k] : t1;
         if (b <= prev || b > t1)
             continue;
         if (b - prev > 1e-12 * (t1 - t0) && margin(g, c, 0.5 * (prev + b)) >= 0)
-            emit_piece(out, g, c, prev, b, 0);
+            st = emit_piece(out, g, c, prev, b, 0);
         prev = b;
     }
+    return st;
 }
 
-/* An isolated contact point, kept when inside both ranges. */
-static void emit_point(_cb_ssi_piece_set *out, const actx *g, const double X[3])
+/* An isolated contact point, kept when inside both ranges; CB_ERR_NOMEM. */
+static cb_status emit_point(_cb_ssi_piece_set *out, const actx *g, const double X[3])
 {
     if (fmin(amargin(g->s, X, g->slack), amargin(g->s + 1, X, g->slack)) < 0)
-        return;
+        return CB_OK;
     _cb_ssi_piece *pc = _cb_ssi_piece_set_add(out);
+    if (!pc)
+        return CB_ERR_NOMEM;
     pc->isolated = pc->tangential = 1;
-    piece_add(pc, g, X);
+    return piece_add(pc, g, X);
 }
 
 /* ---------------------------------------------------------------- the closed forms --------- */
@@ -1096,9 +1101,12 @@ static cb_status general_route(cb_ssi_result_t r, const actx *g, int fa, int fb,
             if (err)
                 cb_error_clear(err);
             r->pairs_total++;
-            _cb_ssi_add_failure(r, fa, fb, -1, -1, CB_ERR_UNSUPPORTED, msg);
+            st = _cb_ssi_add_failure(r, fa, fb, -1, -1, CB_ERR_UNSUPPORTED, msg);
             cb_nurbs_surface_clear(net[0]);
             cb_nurbs_surface_clear(net[1]);
+            if (st != CB_OK)
+                return cb_error_set(err, st, "ssi: out of memory recording an uncertified "
+                                    "face pair");
             return CB_OK;
         }
         cb_ssi_surface_set_nurbs(S + k, net[k]);
@@ -1128,7 +1136,9 @@ static cb_status general_route(cb_ssi_result_t r, const actx *g, int fa, int fb,
                     result_dist(t, g, t->curve[c].pt + i);
             for (slong k = 0; k < t->n_points; k++)
                 result_dist(t, g, &t->point[k].p);
-            _cb_ssi_result_move(r, t);
+            if (_cb_ssi_result_move(r, t) != CB_OK)
+                st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory collecting the "
+                                  "general route's result");
         }
         cb_ssi_result_clear(t);
     }
@@ -1233,20 +1243,26 @@ cb_status _cb_ssi_analytic_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
         anormal(na, g.s, X);
         anormal(nb, g.s + 1, X);
         r->pairs_coincident++;
-        _cb_ssi_add_coincident(r, face_a, face_b, -1, -1, dot(na, nb) > 0, X);
+        if (!_cb_ssi_add_coincident(r, face_a, face_b, -1, -1, dot(na, nb) > 0, X))
+            return cb_error_set(err, CB_ERR_NOMEM,
+                                "ssi: out of memory recording coincident surfaces");
         return CB_OK;
     }
     _cb_ssi_piece_set set;
     _cb_ssi_piece_set_init(&set);
-    for (int k = 0; k < P.n; k++)
-        clip_prim(&set, &g, P.pr + k);
-    for (int k = 0; k < P.np; k++)
-        emit_point(&set, &g, P.pts[k]);
+    cb_status st = CB_OK;
+    for (int k = 0; k < P.n && st == CB_OK; k++)
+        st = clip_prim(&set, &g, P.pr + k);
+    for (int k = 0; k < P.np && st == CB_OK; k++)
+        st = emit_point(&set, &g, P.pts[k]);
     if (set.n == 0)
         r->pairs_empty++;
     slong c0 = r->n_curves, p0 = r->n_points;
-    _cb_ssi_stitch(r, &set, 1, 0, face_a, face_b, g.tol, g.chord);
+    if (st == CB_OK)
+        st = _cb_ssi_stitch(r, &set, 1, 0, face_a, face_b, g.tol, g.chord);
     _cb_ssi_piece_set_clear(&set);
+    if (st != CB_OK)
+        return cb_error_set(err, st, "ssi: out of memory building the closed-form curves");
     for (slong c = c0; c < r->n_curves; c++)
         for (slong i = 0; i < r->curve[c].n; i++)
             result_dist(r, &g, r->curve[c].pt + i);

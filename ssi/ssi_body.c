@@ -14,7 +14,7 @@
 /* The face's surface as an SSI input; an analytic face is bounded by the parameter box of its
  * edges (an angle by the shortest arc holding its samples; a seam, or a span of a whole turn
  * or more, makes it the full turn).
- * Returns 0 for surface kinds the driver does not take. */
+ * Returns 1; 0 for surface kinds the driver does not take; -1 when out of memory. */
 static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
 {
     const cb_topo_surface *ts = b->surfaces + b->faces[face].surface;
@@ -39,8 +39,14 @@ static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
                 cb_topo_curve_eval(X, b->curves + e->curve, t);
                 _cb_ssi_analytic_invert(uv, a, X);
                 if (ns == nalloc) {
-                    nalloc = nalloc ? 2 * nalloc : 64;
-                    ang = realloc(ang, (size_t)(2 * nalloc) * sizeof(double));
+                    slong na = nalloc ? 2 * nalloc : 64;
+                    double *q = realloc(ang, (size_t)(2 * na) * sizeof(double));
+                    if (!q) {
+                        free(ang);
+                        return -1;
+                    }
+                    ang = q;
+                    nalloc = na;
                 }
                 for (int d = 0; d < 2; d++) {
                     if (periodic[d]) {
@@ -63,6 +69,10 @@ static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
         if (!periodic[d])
             continue;
         double *x = malloc((size_t)ns * sizeof(double));
+        if (!x) {
+            free(ang);
+            return -1;
+        }
         for (slong k = 0; k < ns; k++)
             x[k] = ang[2 * k + d];
         for (slong i = 1; i < ns; i++) /* insertion sort: a few hundred samples */
@@ -129,7 +139,8 @@ static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
 }
 
 /* Axis-aligned box of a face's surface: the control net (NURBS, or the analytic surface's
- * exact rational form over its range). */
+ * exact rational form over its range). Returns 1; 0 when there is no such form; -1 when out of
+ * memory. */
 static int face_box(cb_aabb *box, const cb_ssi_surface *S)
 {
     if (S->kind == CB_SSI_NURBS) {
@@ -144,11 +155,26 @@ static int face_box(cb_aabb *box, const cb_ssi_surface *S)
     }
     cb_nurbs_surface_t net;
     cb_nurbs_surface_init(net);
-    int ok = cb_analytic_to_nurbs(net, &S->analytic, r[0], r[1], r[2], r[3], NULL) == CB_OK;
-    if (ok)
+    cb_status st = cb_analytic_to_nurbs(net, &S->analytic, r[0], r[1], r[2], r[3], NULL);
+    if (st == CB_OK)
         cb_nurbs_surface_aabb(box, net);
     cb_nurbs_surface_clear(net);
-    return ok;
+    return st == CB_OK ? 1 : (st == CB_ERR_NOMEM ? -1 : 0);
+}
+
+/* SSI inputs and boxes of b's faces; ok[i] = 0 for a face the driver does not take.
+ * CB_ERR_NOMEM. */
+static cb_status body_faces(cb_ssi_surface *S, cb_aabb *box, char *ok, const cb_topo_body *b)
+{
+    for (int i = 0; i < b->n_faces; i++) {
+        int k = face_surface(S + i, b, i);
+        if (k > 0)
+            k = face_box(box + i, S + i);
+        if (k < 0)
+            return CB_ERR_NOMEM;
+        ok[i] = k > 0;
+    }
+    return CB_OK;
 }
 
 typedef struct {
@@ -204,21 +230,27 @@ cb_status cb_ssi_bodies(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_
     cb_aabb *xa = malloc((size_t)(a->n_faces + 1) * sizeof(cb_aabb));
     cb_aabb *xb = malloc((size_t)(b->n_faces + 1) * sizeof(cb_aabb));
     char *oka = calloc((size_t)a->n_faces + 1, 1), *okb = calloc((size_t)b->n_faces + 1, 1);
-    for (int i = 0; i < a->n_faces; i++)
-        oka[i] = face_surface(sa + i, a, i) && face_box(xa + i, sa + i);
-    for (int j = 0; j < b->n_faces; j++)
-        okb[j] = face_surface(sb + j, b, j) && face_box(xb + j, sb + j);
-    /* Face pairs in order: a failure record, or a pair to intersect. */
     slong nf = 0, af = 64;
     fpair *fp = malloc((size_t)af * sizeof(fpair));
-    for (int i = 0; i < a->n_faces; i++)
+    cb_status st = sa && sb && xa && xb && oka && okb && fp ? CB_OK : CB_ERR_NOMEM;
+    if (st == CB_OK)
+        st = body_faces(sa, xa, oka, a);
+    if (st == CB_OK)
+        st = body_faces(sb, xb, okb, b);
+    /* Face pairs in order: a failure record, or a pair to intersect. */
+    for (int i = 0; i < a->n_faces && st == CB_OK; i++)
         for (int j = 0; j < b->n_faces; j++) {
             int bad = !oka[i] || !okb[j];
             if (!bad && !cb_aabb_overlap(xa + i, xb + j, o.tol))
                 continue;
             if (nf == af) {
+                fpair *q = realloc(fp, (size_t)(2 * af) * sizeof(fpair));
+                if (!q) {
+                    st = CB_ERR_NOMEM;
+                    break;
+                }
+                fp = q;
                 af *= 2;
-                fp = realloc(fp, (size_t)af * sizeof(fpair));
             }
             fpair *F = fp + nf++;
             F->i = i;
@@ -237,15 +269,22 @@ cb_status cb_ssi_bodies(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_
         }
     /* Face pairs run in parallel (each serial inside) and are combined in pair order, so the
      * result does not depend on the number of threads. */
-    fctx fc = {fp, sa, sb, o};
-    fc.o.threads = 1;
-    cb_status st = cb_parallel_for((size_t)nf, 1, o.threads, fbody, &fc);
-    if (st != CB_OK)
-        cb_error_set(err, st, "ssi: parallel face pairs failed");
+    if (st != CB_OK) {
+        cb_error_set(err, st, "ssi: out of memory preparing %d x %d faces", a->n_faces,
+                     b->n_faces);
+    } else {
+        fctx fc = {fp, sa, sb, o};
+        fc.o.threads = 1;
+        st = cb_parallel_for((size_t)nf, 1, o.threads, fbody, &fc);
+        if (st != CB_OK)
+            cb_error_set(err, st, "ssi: parallel face pairs failed: %s", cb_status_name(st));
+    }
     for (slong k = 0; k < nf; k++) {
         fpair *F = fp + k;
-        if (st == CB_OK && !F->run)
-            _cb_ssi_add_failure(r, F->i, F->j, -1, -1, CB_ERR_UNSUPPORTED, F->msg);
+        if (st == CB_OK && !F->run &&
+            _cb_ssi_add_failure(r, F->i, F->j, -1, -1, CB_ERR_UNSUPPORTED, F->msg) != CB_OK)
+            st = cb_error_set(err, CB_ERR_NOMEM, "faces %d, %d: ssi: out of memory recording "
+                              "that they are not handled", F->i, F->j);
         if (st == CB_OK && F->run && F->st != CB_OK) {
             st = F->st;
             if (err)
@@ -259,7 +298,10 @@ cb_status cb_ssi_bodies(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_
                 int flip = (a->faces[F->i].same_sense != 0) != (b->faces[F->j].same_sense != 0);
                 cr->same_face_normal = flip ? !cr->same_normal : cr->same_normal;
             }
-            _cb_ssi_result_move(r, F->r);
+            if (_cb_ssi_result_move(r, F->r) != CB_OK)
+                st = cb_error_set(err, CB_ERR_NOMEM,
+                                  "faces %d, %d: ssi: out of memory collecting their result",
+                                  F->i, F->j);
         }
         cb_ssi_result_clear(F->r);
     }

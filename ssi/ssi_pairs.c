@@ -595,12 +595,21 @@ static void pair_run(pair_job *J, const pair_ctx *c)
     } else {
         _cb_ssi_sqf h;
         _cb_ssi_sqf_init(&h);
-        _cb_ssi_sqf_set(&h, mp, ctx);
-        _cb_ssi_vertex_refine(T, &h);
         _cb_ssi_trace_set ts;
         _cb_ssi_trace_set_init(&ts);
-        _cb_ssi_trace(&ts, T, &h, _cb_ssi_lift, &g, g.chord, g.max_seg);
-        _cb_ssi_clip(&J->pieces, &ts, &g);
+        J->st = _cb_ssi_sqf_set(&h, mp, ctx);
+        if (J->st == CB_OK) {
+            _cb_ssi_vertex_refine(T, &h);
+            J->st = _cb_ssi_trace(&ts, T, &h, _cb_ssi_lift, &g, g.chord, g.max_seg);
+        }
+        if (J->st == CB_OK)
+            J->st = _cb_ssi_clip(&J->pieces, &ts, &g);
+        if (J->st != CB_OK) {
+            /* Only memory fails here: the pair says so and outputs nothing rather than part
+             * of its curves. */
+            _cb_ssi_piece_set_clear(&J->pieces);
+            snprintf(J->msg, sizeof J->msg, "tracing: out of memory");
+        }
         _cb_ssi_trace_set_clear(&ts);
         _cb_ssi_sqf_clear(&h);
         J->t_trace = now_s() - t1;
@@ -685,9 +694,12 @@ cb_ssi_coincident *_cb_ssi_add_coincident(cb_ssi_result_t r, int fa, int fb, int
                                           int same_normal, const double xyz[3])
 {
     if (r->n_coincident == r->alloc_coincident) {
-        r->alloc_coincident = r->alloc_coincident ? 2 * r->alloc_coincident : 8;
-        r->coincident =
-            realloc(r->coincident, (size_t)r->alloc_coincident * sizeof(*r->coincident));
+        slong alloc = r->alloc_coincident ? 2 * r->alloc_coincident : 8;
+        cb_ssi_coincident *q = realloc(r->coincident, (size_t)alloc * sizeof(*q));
+        if (!q)
+            return NULL;
+        r->coincident = q;
+        r->alloc_coincident = alloc;
     }
     cb_ssi_coincident *c = r->coincident + r->n_coincident++;
     c->face_a = fa;
@@ -701,12 +713,20 @@ cb_ssi_coincident *_cb_ssi_add_coincident(cb_ssi_result_t r, int fa, int fb, int
     return c;
 }
 
-void _cb_ssi_add_failure(cb_ssi_result_t r, int fa, int fb, int pa, int pb, cb_status st,
-                        const char *msg)
+cb_status _cb_ssi_add_failure(cb_ssi_result_t r, int fa, int fb, int pa, int pb, cb_status st,
+                              const char *msg)
 {
     if (r->n_failed == r->alloc_failed) {
-        r->alloc_failed = r->alloc_failed ? 2 * r->alloc_failed : 8;
-        r->failed = realloc(r->failed, (size_t)r->alloc_failed * sizeof(*r->failed));
+        slong alloc = r->alloc_failed ? 2 * r->alloc_failed : 8;
+        cb_ssi_failure *q = realloc(r->failed, (size_t)alloc * sizeof(*q));
+        if (!q) {
+            /* The failure goes unlisted, but r must not read as certified. */
+            if (r->status == CB_OK)
+                r->status = CB_ERR_NOMEM;
+            return CB_ERR_NOMEM;
+        }
+        r->failed = q;
+        r->alloc_failed = alloc;
     }
     cb_ssi_failure *f = r->failed + r->n_failed++;
     f->face_a = fa;
@@ -720,6 +740,7 @@ void _cb_ssi_add_failure(cb_ssi_result_t r, int fa, int fb, int pa, int pb, cb_s
     memset(f->box_b, 0, sizeof f->box_b);
     if (r->status == CB_OK)
         r->status = st;
+    return CB_OK;
 }
 
 static double surface_dist(const cb_ssi_surface *S, const double uv[2], const double X[3])
@@ -791,6 +812,21 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
     cb_aabb *qbox = malloc((size_t)nq * sizeof(cb_aabb));
     cb_aabb *pbox = malloc((size_t)np * sizeof(cb_aabb));
     char *qhave = calloc((size_t)nq, 1), *phave = calloc((size_t)np, 1);
+    pair_job *job = calloc((size_t)np * nq + 1, sizeof(pair_job));
+    if (!qobb || !pobb || !qbox || !pbox || !qhave || !phave || !job) {
+        free(qobb);
+        free(pobb);
+        free(qbox);
+        free(pbox);
+        free(qhave);
+        free(phave);
+        free(job);
+        cb_nurbs_surface_array_free(qpat, nq);
+        if (ppat)
+            cb_nurbs_surface_array_free(ppat, np);
+        return cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory for %d x %d patch pairs",
+                            np, nq);
+    }
     int p_bounded = 1;
     for (int j = 0; j < nq; j++) {
         cb_nurbs_surface_aabb(qbox + j, qpat + j);
@@ -821,7 +857,6 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
     r->tol = tol;
 
     /* Patch pairs surviving the OBB test (section 4.1). */
-    pair_job *job = calloc((size_t)np * nq + 1, sizeof(pair_job));
     slong nj = 0;
     for (int i = 0; i < np; i++)
         for (int j = 0; j < nq; j++) {
@@ -878,28 +913,29 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
     free(qhave);
     free(phave);
 
-    p_side *P = NULL;
     cb_implicit_t F_an;
     cb_implicit_init(F_an);
     cb_dixon_patch_struct *Q = calloc((size_t)nq, sizeof(cb_dixon_patch_struct));
-    for (int j = 0; j < nq; j++)
+    p_side *P = ppat ? calloc((size_t)np, sizeof(p_side)) : NULL;
+    if (!Q || (ppat && !P))
+        st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory for %d x %d patches", np, nq);
+    for (int j = 0; j < nq && Q; j++)
         cb_dixon_patch_init(Q + j);
+    for (int i = 0; i < np && P; i++) {
+        cb_dixon_patch_init(P[i].dp);
+        cb_dixon_pencil_init(P[i].pencil);
+        cb_implicit_init(P[i].F);
+    }
     for (int j = 0; j < nq && st == CB_OK; j++)
         st = cb_dixon_patch_set_bezier(Q + j, qpat + j, err);
     if (st == CB_OK && ppat) {
-        P = calloc((size_t)np, sizeof(p_side));
-        for (int i = 0; i < np; i++) {
-            cb_dixon_patch_init(P[i].dp);
-            cb_dixon_pencil_init(P[i].pencil);
-            cb_implicit_init(P[i].F);
-        }
         for (slong k = 0; k < nj; k++)
             if (job[k].st == CB_OK && !job[k].spline)
                 P[job[k].ip].needed = 1;
         p_ctx pc = {P, ppat};
         st = cb_parallel_for((size_t)np, 1, opts->threads, p_body, &pc);
         if (st != CB_OK)
-            cb_error_set(err, st, "ssi: parallel implicitisation failed");
+            cb_error_set(err, st, "ssi: parallel implicitisation failed: %s", cb_status_name(st));
         /* Probed pairs: the algebraic route when the true implicit degree allows it. */
         for (slong k = 0; k < nj; k++) {
             pair_job *J = job + k;
@@ -925,12 +961,15 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                        0.05 * size};
         st = cb_parallel_for((size_t)nj, 1, opts->threads, pair_body, &pc);
         if (st != CB_OK)
-            cb_error_set(err, st, "ssi: parallel patch pairs failed");
+            cb_error_set(err, st, "ssi: parallel patch pairs failed: %s", cb_status_name(st));
     }
     if (st == CB_OK) {
         _cb_ssi_piece_set *sets = malloc((size_t)(nj + 1) * sizeof(_cb_ssi_piece_set));
+        if (!sets)
+            st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory for the curves of %ld "
+                              "patch pairs", (long)nj);
         slong n_coinc = 0, first_coinc = -1;
-        for (slong k = 0; k < nj; k++) {
+        for (slong k = 0; k < nj && st == CB_OK; k++) {
             pair_job *J = job + k;
             r->time_topo += J->t_topo;
             r->time_trace += J->t_trace;
@@ -949,7 +988,11 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                     pa = pb;
                     pb = t;
                 }
-                _cb_ssi_add_failure(r, fa, fb, pa, pb, J->st, J->msg);
+                if (_cb_ssi_add_failure(r, fa, fb, pa, pb, J->st, J->msg) != CB_OK) {
+                    st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory recording an "
+                                      "uncertified patch pair (%s)", cb_status_name(J->st));
+                    break;
+                }
                 if (J->spline && J->sst.uncertified > 0) {
                     cb_ssi_failure *f = r->failed + r->n_failed - 1;
                     double bp[4], bq[4];
@@ -968,14 +1011,19 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                 to_domains(&J->pieces, P ? P[J->ip].dp : NULL, Ps, Q + J->iq);
             sets[k] = J->pieces;
         }
-        if (n_coinc > 0) {
+        if (st == CB_OK && n_coinc > 0) {
             const pair_job *J = job + first_coinc;
             int pa = ppat ? J->ip : -1, pb = J->iq;
             cb_ssi_coincident *cr =
                 _cb_ssi_add_coincident(r, fa, fb, swapped ? pb : pa, swapped ? pa : pb,
                                        J->same_normal, J->cxyz);
-            cr->patch_pairs = n_coinc;
-            cr->whole = n_coinc == nj;
+            if (cr) {
+                cr->patch_pairs = n_coinc;
+                cr->whole = n_coinc == nj;
+            } else {
+                st = cb_error_set(err, CB_ERR_NOMEM,
+                                  "ssi: out of memory recording coincident surfaces");
+            }
         }
         slong c0 = r->n_curves, q0 = r->n_points;
         /* Pieces of the subdivision route meet at boundary roots solved from the same
@@ -985,7 +1033,9 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
         int all_spline = 1;
         for (slong k = 0; k < nj; k++)
             all_spline &= job[k].spline;
-        _cb_ssi_stitch(r, sets, nj, swapped, fa, fb, (all_spline ? 1 : 10) * tol, chord);
+        if (st == CB_OK &&
+            _cb_ssi_stitch(r, sets, nj, swapped, fa, fb, (all_spline ? 1 : 10) * tol, chord))
+            st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory joining curves");
         free(sets);
         for (slong c = c0; c < r->n_curves; c++)
             for (slong i = 0; i < r->curve[c].n; i++)
@@ -1004,7 +1054,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
         }
         free(P);
     }
-    for (int j = 0; j < nq; j++)
+    for (int j = 0; j < nq && Q; j++)
         cb_dixon_patch_clear(Q + j);
     free(Q);
     cb_implicit_clear(F_an);

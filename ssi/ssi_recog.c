@@ -298,10 +298,13 @@ cb_status _cb_ssi_recognised_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
             }
         }
         r->tol = t->tol;
-        _cb_ssi_result_move(r, t);
+        if (_cb_ssi_result_move(r, t) != CB_OK) {
+            cb_ssi_result_clear(t);
+            return cb_error_set(err, CB_ERR_NOMEM,
+                                "ssi: out of memory collecting the closed-form result");
+        }
         *done = 1;
     }
     cb_ssi_result_clear(t);
-    (void)err;
     return CB_OK;
 }

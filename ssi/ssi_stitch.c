@@ -22,12 +22,16 @@ void cb_ssi_result_clear(cb_ssi_result_t r)
     cb_ssi_result_init(r);
 }
 
-void _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s)
+cb_status _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s)
 {
     if (s->n_curves) {
         if (r->n_curves + s->n_curves > r->alloc_curves) {
-            r->alloc_curves = FLINT_MAX(2 * r->alloc_curves, r->n_curves + s->n_curves);
-            r->curve = realloc(r->curve, (size_t)r->alloc_curves * sizeof(*r->curve));
+            slong alloc = FLINT_MAX(2 * r->alloc_curves, r->n_curves + s->n_curves);
+            cb_ssi_curve *q = realloc(r->curve, (size_t)alloc * sizeof(*q));
+            if (!q)
+                return CB_ERR_NOMEM;
+            r->curve = q;
+            r->alloc_curves = alloc;
         }
         memcpy(r->curve + r->n_curves, s->curve, (size_t)s->n_curves * sizeof(*s->curve));
         r->n_curves += s->n_curves;
@@ -35,8 +39,12 @@ void _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s)
     }
     if (s->n_points) {
         if (r->n_points + s->n_points > r->alloc_points) {
-            r->alloc_points = FLINT_MAX(2 * r->alloc_points, r->n_points + s->n_points);
-            r->point = realloc(r->point, (size_t)r->alloc_points * sizeof(*r->point));
+            slong alloc = FLINT_MAX(2 * r->alloc_points, r->n_points + s->n_points);
+            cb_ssi_isolated *q = realloc(r->point, (size_t)alloc * sizeof(*q));
+            if (!q)
+                return CB_ERR_NOMEM;
+            r->point = q;
+            r->alloc_points = alloc;
         }
         memcpy(r->point + r->n_points, s->point, (size_t)s->n_points * sizeof(*s->point));
         r->n_points += s->n_points;
@@ -44,7 +52,9 @@ void _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s)
     }
     for (slong k = 0; k < s->n_failed; k++) {
         const cb_ssi_failure *f = s->failed + k;
-        _cb_ssi_add_failure(r, f->face_a, f->face_b, f->patch_a, f->patch_b, f->status, f->msg);
+        if (_cb_ssi_add_failure(r, f->face_a, f->face_b, f->patch_a, f->patch_b, f->status,
+                                f->msg) != CB_OK)
+            return CB_ERR_NOMEM;
         cb_ssi_failure *g = r->failed + r->n_failed - 1;
         g->has_box = f->has_box;
         memcpy(g->box_a, f->box_a, sizeof g->box_a);
@@ -55,6 +65,8 @@ void _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s)
         const cb_ssi_coincident *c = s->coincident + k;
         cb_ssi_coincident *d = _cb_ssi_add_coincident(r, c->face_a, c->face_b, c->patch_a,
                                                       c->patch_b, c->same_normal, c->xyz);
+        if (!d)
+            return CB_ERR_NOMEM;
         *d = *c;
     }
     s->n_coincident = 0;
@@ -70,6 +82,7 @@ void _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s)
     r->max_dist_b = fmax(r->max_dist_b, s->max_dist_b);
     r->time_topo += s->time_topo;
     r->time_trace += s->time_trace;
+    return CB_OK;
 }
 
 static double d3(const double *a, const double *b)
@@ -119,54 +132,72 @@ static void out_point(cb_ssi_point *o, const double X[3], const _cb_ssi_pq *q, i
     memcpy(o->uv_b, swapped ? uv : st, 2 * sizeof(double));
 }
 
+/* A new empty curve; NULL when out of memory (r is left as it was). */
 static cb_ssi_curve *add_curve(cb_ssi_result_t r)
 {
     if (r->n_curves == r->alloc_curves) {
-        r->alloc_curves = r->alloc_curves ? 2 * r->alloc_curves : 8;
-        r->curve = realloc(r->curve, (size_t)r->alloc_curves * sizeof(*r->curve));
+        slong alloc = r->alloc_curves ? 2 * r->alloc_curves : 8;
+        cb_ssi_curve *q = realloc(r->curve, (size_t)alloc * sizeof(*q));
+        if (!q)
+            return NULL;
+        r->curve = q;
+        r->alloc_curves = alloc;
     }
     cb_ssi_curve *c = r->curve + r->n_curves++;
     memset(c, 0, sizeof(*c));
     return c;
 }
 
-static void curve_append(cb_ssi_curve *c, slong *alloc, const double X[3], const _cb_ssi_pq *q,
-                         int swapped)
+static cb_status curve_append(cb_ssi_curve *c, slong *alloc, const double X[3],
+                              const _cb_ssi_pq *q, int swapped)
 {
     if (c->n == *alloc) {
-        *alloc = *alloc ? 2 * *alloc : 64;
-        c->pt = realloc(c->pt, (size_t)*alloc * sizeof(cb_ssi_point));
+        slong a = *alloc ? 2 * *alloc : 64;
+        cb_ssi_point *pt = realloc(c->pt, (size_t)a * sizeof(cb_ssi_point));
+        if (!pt)
+            return CB_ERR_NOMEM;
+        c->pt = pt;
+        *alloc = a;
     }
     out_point(c->pt + c->n++, X, q, swapped);
+    return CB_OK;
 }
 
 /* Appends piece it in direction rev (0: as stored), skipping its first point when the curve
  * already ends there, with its end points snapped to their nodes. */
-static void append_piece(cb_ssi_curve *c, slong *alloc, const item *it, int rev,
-                         const node *nodes, int swapped)
+static cb_status append_piece(cb_ssi_curve *c, slong *alloc, const item *it, int rev,
+                              const node *nodes, int swapped)
 {
     const _cb_ssi_piece *p = it->p;
-    for (slong k = 0; k < p->n; k++) {
+    cb_status st = CB_OK;
+    for (slong k = 0; k < p->n && st == CB_OK; k++) {
         slong i = rev ? p->n - 1 - k : k;
         if (k == 0 && c->n > 0)
             continue;
         if (i == 0 && it->node[0] >= 0)
-            curve_append(c, alloc, nodes[it->node[0]].X, &nodes[it->node[0]].pq, swapped);
+            st = curve_append(c, alloc, nodes[it->node[0]].X, &nodes[it->node[0]].pq, swapped);
         else if (i == p->n - 1 && it->node[1] >= 0)
-            curve_append(c, alloc, nodes[it->node[1]].X, &nodes[it->node[1]].pq, swapped);
+            st = curve_append(c, alloc, nodes[it->node[1]].X, &nodes[it->node[1]].pq, swapped);
         else
-            curve_append(c, alloc, p->xyz + 3 * i, p->pt + i, swapped);
+            st = curve_append(c, alloc, p->xyz + 3 * i, p->pt + i, swapped);
     }
+    return st;
 }
 
-void _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong nsets, int swapped,
-                    int face_a, int face_b, double merge_tol, double chord)
+cb_status _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong nsets,
+                         int swapped, int face_a, int face_b, double merge_tol, double chord)
 {
     slong ni = 0, nn = 0;
     for (slong s = 0; s < nsets; s++)
         ni += sets[s].n;
     item *it = calloc((size_t)ni + 1, sizeof(item));
     node *nodes = malloc((size_t)(2 * ni + 1) * sizeof(node));
+    if (!it || !nodes) {
+        free(it);
+        free(nodes);
+        return CB_ERR_NOMEM;
+    }
+    cb_status st = CB_OK;
     slong m = 0;
     for (slong s = 0; s < nsets; s++)
         for (slong k = 0; k < sets[s].n; k++) {
@@ -224,16 +255,20 @@ void _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong nset
             nodes[it[i].node[1]].deg++;
         }
     /* Chains through nodes of degree 2. */
-    for (slong i = 0; i < ni; i++) {
+    for (slong i = 0; i < ni && st == CB_OK; i++) {
         if (it[i].dropped || it[i].used || it[i].p->isolated)
             continue;
         slong alloc = 0;
         cb_ssi_curve *c = add_curve(r);
+        if (!c) {
+            st = CB_ERR_NOMEM;
+            break;
+        }
         c->face_a = face_a;
         c->face_b = face_b;
         if (it[i].p->closed) {
             it[i].used = 1;
-            append_piece(c, &alloc, it + i, 0, nodes, swapped);
+            st = append_piece(c, &alloc, it + i, 0, nodes, swapped);
             c->closed = 1;
             c->tangential = it[i].p->tangential;
             continue;
@@ -269,7 +304,9 @@ void _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong nset
         for (;;) {
             it[cur].used = 1;
             c->tangential &= it[cur].p->tangential != 0;
-            append_piece(c, &alloc, it + cur, rev, nodes, swapped);
+            st = append_piece(c, &alloc, it + cur, rev, nodes, swapped);
+            if (st != CB_OK)
+                break;
             slong nd = it[cur].node[rev ? 0 : 1];
             if (nodes[nd].deg != 2)
                 break;
@@ -298,7 +335,7 @@ void _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong nset
     }
     /* Isolated points not at a node or at an earlier point. */
     slong p0 = r->n_points;
-    for (slong i = 0; i < ni; i++) {
+    for (slong i = 0; i < ni && st == CB_OK; i++) {
         const _cb_ssi_piece *p = it[i].p;
         if (!p->isolated)
             continue;
@@ -310,8 +347,14 @@ void _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong nset
         if (dup)
             continue;
         if (r->n_points == r->alloc_points) {
-            r->alloc_points = r->alloc_points ? 2 * r->alloc_points : 8;
-            r->point = realloc(r->point, (size_t)r->alloc_points * sizeof(*r->point));
+            slong alloc = r->alloc_points ? 2 * r->alloc_points : 8;
+            cb_ssi_isolated *q = realloc(r->point, (size_t)alloc * sizeof(*q));
+            if (!q) {
+                st = CB_ERR_NOMEM;
+                break;
+            }
+            r->point = q;
+            r->alloc_points = alloc;
         }
         cb_ssi_isolated *o = r->point + r->n_points++;
         out_point(&o->p, p->xyz, p->pt, swapped);
@@ -321,4 +364,5 @@ void _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong nset
     }
     free(it);
     free(nodes);
+    return st;
 }

@@ -26,7 +26,7 @@ void _cb_ssi_sqf_clear(_cb_ssi_sqf *h)
     _cb_ssi_sqf_init(h);
 }
 
-void _cb_ssi_sqf_set(_cb_ssi_sqf *h, const fmpz_mpoly_t phi, const fmpz_mpoly_ctx_t ctx)
+cb_status _cb_ssi_sqf_set(_cb_ssi_sqf *h, const fmpz_mpoly_t phi, const fmpz_mpoly_ctx_t ctx)
 {
     fmpz_mpoly_factor_t fac;
     fmpz_mpoly_t prod;
@@ -47,6 +47,11 @@ void _cb_ssi_sqf_set(_cb_ssi_sqf *h, const fmpz_mpoly_t phi, const fmpz_mpoly_ct
         h->dt = 0;
     slong len = (h->ds + 1) * (h->dt + 1);
     h->hd = calloc((size_t)len, sizeof(double));
+    if (!h->hd) {
+        fmpz_mpoly_clear(prod, ctx);
+        fmpz_mpoly_factor_clear(fac, ctx);
+        return CB_ERR_NOMEM;
+    }
     slong emax = WORD_MIN;
     slong nt = fmpz_mpoly_length(prod, ctx);
     fmpz_t c;
@@ -66,6 +71,7 @@ void _cb_ssi_sqf_set(_cb_ssi_sqf *h, const fmpz_mpoly_t phi, const fmpz_mpoly_ct
     fmpz_clear(c);
     fmpz_mpoly_clear(prod, ctx);
     fmpz_mpoly_factor_clear(fac, ctx);
+    return CB_OK;
 }
 
 /* Coefficients a[j] of h(s, t) in t at a fixed s (Horner in s). */
@@ -155,30 +161,45 @@ void _cb_ssi_trace_set_clear(_cb_ssi_trace_set *ts)
     _cb_ssi_trace_set_init(ts);
 }
 
+/* A new empty curve; NULL when out of memory (ts is left as it was). */
 static _cb_ssi_trace_curve *trace_set_add(_cb_ssi_trace_set *ts)
 {
     if (ts->n == ts->alloc) {
-        ts->alloc = ts->alloc ? 2 * ts->alloc : 8;
-        ts->c = realloc(ts->c, (size_t)ts->alloc * sizeof(*ts->c));
+        slong alloc = ts->alloc ? 2 * ts->alloc : 8;
+        _cb_ssi_trace_curve *q = realloc(ts->c, (size_t)alloc * sizeof(*q));
+        if (!q)
+            return NULL;
+        ts->c = q;
+        ts->alloc = alloc;
     }
     _cb_ssi_trace_curve *c = ts->c + ts->n++;
     memset(c, 0, sizeof(*c));
     return c;
 }
 
-static void curve_push(_cb_ssi_trace_curve *c, double s, double t, unsigned fixed)
+/* Appends (s, t) unless the curve ends there; CB_ERR_NOMEM leaves c as it was. */
+static cb_status curve_push(_cb_ssi_trace_curve *c, double s, double t, unsigned fixed)
 {
     if (c->n > 0 && c->st[2 * c->n - 2] == s && c->st[2 * c->n - 1] == t)
-        return;
+        return CB_OK;
     if (c->n == c->alloc) {
-        c->alloc = c->alloc ? 2 * c->alloc : 32;
-        c->st = realloc(c->st, (size_t)c->alloc * 2 * sizeof(double));
-        c->fixed = realloc(c->fixed, (size_t)c->alloc * sizeof(unsigned));
+        /* alloc grows only once both arrays have: a larger st alone is harmless. */
+        slong alloc = c->alloc ? 2 * c->alloc : 32;
+        double *st = realloc(c->st, (size_t)alloc * 2 * sizeof(double));
+        if (!st)
+            return CB_ERR_NOMEM;
+        c->st = st;
+        unsigned *fixed_q = realloc(c->fixed, (size_t)alloc * sizeof(unsigned));
+        if (!fixed_q)
+            return CB_ERR_NOMEM;
+        c->fixed = fixed_q;
+        c->alloc = alloc;
     }
     c->st[2 * c->n] = s;
     c->st[2 * c->n + 1] = t;
     c->fixed[c->n] = fixed;
     c->n++;
+    return CB_OK;
 }
 
 /* Q-side fixed bits of a vertex on the box sides. */
@@ -228,10 +249,10 @@ static double dist3(const double a[3], const double b[3])
 }
 
 /* Appends the points of edge e from vertex `from` to vertex `to` (end point included, start
- * point assumed present). */
-static void trace_edge(_cb_ssi_trace_curve *out, const cb_ctopo_t T, slong e, int reversed,
-                       const _cb_ssi_sqf *h, _cb_ssi_lift_fn lift, const void *lift_ctx,
-                       double chord, double max_seg, double *work, double *roots)
+ * point assumed present); CB_ERR_NOMEM when out could not grow. */
+static cb_status trace_edge(_cb_ssi_trace_curve *out, const cb_ctopo_t T, slong e, int reversed,
+                            const _cb_ssi_sqf *h, _cb_ssi_lift_fn lift, const void *lift_ctx,
+                            double chord, double max_seg, double *work, double *roots)
 {
     const cb_ctopo_edge_struct *E = T->edge + e;
     const cb_ctopo_vertex_struct *va = T->vertex + (reversed ? E->v1 : E->v0);
@@ -298,10 +319,8 @@ static void trace_edge(_cb_ssi_trace_curve *out, const cb_ctopo_t T, slong e, in
         }
         P.rank = best;
         P.count = n;
-        if (n == 0) {
-            curve_push(out, vb->s, vb->t, vertex_fixed(vb));
-            return;
-        }
+        if (n == 0)
+            return curve_push(out, vb->s, vb->t, vertex_fixed(vb));
     }
     double cur[2] = {va->s, va->t}, Xc[3];
     lift(Xc, lift_ctx, cur[0], cur[1]);
@@ -347,11 +366,12 @@ static void trace_edge(_cb_ssi_trace_curve *out, const cb_ctopo_t T, slong e, in
         cur[0] = nxt[0];
         cur[1] = nxt[1];
         memcpy(Xc, Xn, sizeof Xc);
-        curve_push(out, cur[0], cur[1], x == xb ? vertex_fixed(vb) : 0u);
+        if (curve_push(out, cur[0], cur[1], x == xb ? vertex_fixed(vb) : 0u) != CB_OK)
+            return CB_ERR_NOMEM;
         if ((span > 0 && x + step > xb) || (span < 0 && x + step < xb))
             step = xb - x;
     }
-    curve_push(out, vb->s, vb->t, vertex_fixed(vb));
+    return curve_push(out, vb->s, vb->t, vertex_fixed(vb));
 }
 
 /* --------------------------------------------------------------- vertex refinement -------- */
@@ -434,8 +454,8 @@ void _cb_ssi_vertex_refine(cb_ctopo_t T, const _cb_ssi_sqf *h)
 
 /* --------------------------------------------------------------- chains -------------------- */
 
-void _cb_ssi_trace(_cb_ssi_trace_set *out, const cb_ctopo_t T, const _cb_ssi_sqf *h,
-                   _cb_ssi_lift_fn lift, const void *lift_ctx, double chord, double max_seg)
+cb_status _cb_ssi_trace(_cb_ssi_trace_set *out, const cb_ctopo_t T, const _cb_ssi_sqf *h,
+                        _cb_ssi_lift_fn lift, const void *lift_ctx, double chord, double max_seg)
 {
     slong nv = T->n_vertices, ne = T->n_edges;
     slong *deg = calloc((size_t)nv + 1, sizeof(slong));
@@ -444,14 +464,15 @@ void _cb_ssi_trace(_cb_ssi_trace_set *out, const cb_ctopo_t T, const _cb_ssi_sqf
     char *used = calloc((size_t)ne + 1, 1);
     double *work = malloc((size_t)(h->dt + 2) * sizeof(double));
     double *roots = malloc((size_t)(h->dt + 2) * sizeof(double));
-    for (slong e = 0; e < ne; e++) {
+    slong *fill = calloc((size_t)nv + 1, sizeof(slong));
+    cb_status st = deg && start && inc && used && work && roots && fill ? CB_OK : CB_ERR_NOMEM;
+    for (slong e = 0; e < ne && st == CB_OK; e++) {
         deg[T->edge[e].v0]++;
         deg[T->edge[e].v1]++;
     }
-    for (slong v = 0; v < nv; v++)
+    for (slong v = 0; v < nv && st == CB_OK; v++)
         start[v + 1] = start[v] + deg[v];
-    slong *fill = calloc((size_t)nv + 1, sizeof(slong));
-    for (slong e = 0; e < ne; e++) {
+    for (slong e = 0; e < ne && st == CB_OK; e++) {
         inc[start[T->edge[e].v0] + fill[T->edge[e].v0]++] = e;
         inc[start[T->edge[e].v1] + fill[T->edge[e].v1]++] = e;
     }
@@ -459,10 +480,10 @@ void _cb_ssi_trace(_cb_ssi_trace_set *out, const cb_ctopo_t T, const _cb_ssi_sqf
     /* A chain passes through a vertex of degree 2 inside the box; it stops elsewhere, so that
      * pieces end on patch sides (where stitching joins them) and at nodes. */
 #define PASS(v) (deg[v] == 2 && T->vertex[v].sides == 0)
-    for (int pass = 0; pass < 2; pass++) {
+    for (int pass = 0; pass < 2 && st == CB_OK; pass++) {
         /* Pass 0: open chains, started at stopping vertices in index order. Pass 1: the
          * remaining edges are closed loops, started at their lowest edge. */
-        for (slong e0 = 0; e0 < ne; e0++) {
+        for (slong e0 = 0; e0 < ne && st == CB_OK; e0++) {
             if (used[e0])
                 continue;
             const cb_ctopo_edge_struct *E0 = T->edge + e0;
@@ -483,14 +504,18 @@ void _cb_ssi_trace(_cb_ssi_trace_set *out, const cb_ctopo_t T, const _cb_ssi_sqf
                 rev = 0;
             }
             _cb_ssi_trace_curve *c = trace_set_add(out);
+            if (!c) {
+                st = CB_ERR_NOMEM;
+                break;
+            }
             c->tangential = 1;
             const cb_ctopo_vertex_struct *vs = T->vertex + v;
-            curve_push(c, vs->s, vs->t, vertex_fixed(vs));
+            st = curve_push(c, vs->s, vs->t, vertex_fixed(vs));
             slong e = e0;
-            for (;;) {
+            while (st == CB_OK) {
                 used[e] = 1;
                 c->tangential &= T->edge[e].tangential != 0;
-                trace_edge(c, T, e, rev, h, lift, lift_ctx, chord, max_seg, work, roots);
+                st = trace_edge(c, T, e, rev, h, lift, lift_ctx, chord, max_seg, work, roots);
                 v = rev ? T->edge[e].v0 : T->edge[e].v1;
                 if (!PASS(v))
                     break;
@@ -508,13 +533,17 @@ void _cb_ssi_trace(_cb_ssi_trace_set *out, const cb_ctopo_t T, const _cb_ssi_sqf
         }
     }
 #undef PASS
-    for (slong v = 0; v < nv; v++) {
+    for (slong v = 0; v < nv && st == CB_OK; v++) {
         if (deg[v] != 0)
             continue;
         _cb_ssi_trace_curve *c = trace_set_add(out);
+        if (!c) {
+            st = CB_ERR_NOMEM;
+            break;
+        }
         c->isolated = 1;
         c->tangential = 1;
-        curve_push(c, T->vertex[v].s, T->vertex[v].t, vertex_fixed(T->vertex + v));
+        st = curve_push(c, T->vertex[v].s, T->vertex[v].t, vertex_fixed(T->vertex + v));
     }
     free(deg);
     free(start);
@@ -522,4 +551,5 @@ void _cb_ssi_trace(_cb_ssi_trace_set *out, const cb_ctopo_t T, const _cb_ssi_sqf
     free(used);
     free(work);
     free(roots);
+    return st;
 }
