@@ -115,6 +115,29 @@ cb_status cb_mesh_check(cb_mesh_check_report *r, const cb_mesh_t m, cb_error *er
     return cb_tess_check_cgal(r, m, err);
 }
 
+cb_status cb_mesh_check_contacts(cb_mesh_contacts *c, const cb_mesh_t m, double eps,
+                                 cb_error *err)
+{
+    c->touching = c->crossing = -1;
+    if (!(eps > 0) || !isfinite(eps))
+        return cb_error_set(err, CB_ERR_INVALID, "mesh contacts: eps %g is not a positive distance",
+                            eps);
+    cb_mesh_check_report r = {0};
+    triple *work = malloc((3 * (size_t)m->n_triangles + 1) * sizeof *work);
+    if (!work)
+        return cb_error_set(err, CB_ERR_NOMEM, "mesh contacts: no memory for %d triangles",
+                            m->n_triangles);
+    count_edges(&r, m, work);
+    free(work);
+    if (m->n_triangles == 0 || r.boundary_edges || r.nonmanifold_edges || r.misoriented_edges)
+        return cb_error_set(err, CB_ERR_INVALID,
+                            "mesh contacts: the mesh is not closed, edge-manifold and oriented "
+                            "(%d triangles; %d boundary, %d non-manifold, %d misoriented edges)",
+                            m->n_triangles, r.boundary_edges, r.nonmanifold_edges,
+                            r.misoriented_edges);
+    return cb_tess_check_cgal_contacts(&c->touching, &c->crossing, m, eps, err);
+}
+
 int cb_mesh_check_passed(const cb_mesh_check_report *r)
 {
     return r->closed == 1 && r->edge_manifold == 1 && r->vertex_manifold == 1 &&

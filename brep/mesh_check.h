@@ -43,6 +43,30 @@ typedef struct {
  * error. */
 cb_status cb_mesh_check(cb_mesh_check_report *r, const cb_mesh_t m, cb_error *err);
 
+/* Where a closed mesh meets itself. The surface of a solid that touches itself, or of solids
+ * that touch each other, along a curve or at a point (a union of operands in contact: the exact
+ * result is no manifold there) meets itself without crossing: its mesh has vertices whose
+ * triangles form several fans, or CGAL reports it self-intersecting, and both are also what a
+ * wrong result looks like. This tells them apart. Each vertex is first given one copy per fan
+ * of triangles around it; then every pair of triangles CGAL finds intersecting (exact
+ * predicates, PMP::self_intersections) is
+ *   touching: every point of their intersection lies within eps of an edge of each (checked
+ *             at the corners of the intersection and the midpoints of its sides): they meet
+ *             along their edges or at their corners;
+ *   crossing: otherwise: one cuts through the inside of the other, they overlap in a common
+ *             plane, or a triangle is degenerate.
+ * eps is a distance in the mesh's units: how far apart the mesh may carry one curve along which
+ * two parts meet (e.g. the B-rep's largest edge tolerance). */
+typedef struct {
+    int touching, crossing; /* pairs of triangles */
+} cb_mesh_contacts;
+
+/* Fills c for m. CB_ERR_INVALID unless m is closed, edge-manifold and consistently oriented
+ * (cb_mesh_check's closed and oriented), or eps is not positive and finite; otherwise errors as
+ * cb_mesh_check. */
+cb_status cb_mesh_check_contacts(cb_mesh_contacts *c, const cb_mesh_t m, double eps,
+                                 cb_error *err);
+
 /* 1 when r says the mesh is a closed, manifold, outward-oriented, self-intersection-free
  * triangle mesh bounding a volume, else 0. */
 int cb_mesh_check_passed(const cb_mesh_check_report *r);

@@ -4,13 +4,20 @@ extern "C" {
 #include "brep/tess_check_cgal.h"
 }
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <exception>
+#include <iterator>
 #include <new>
+#include <utility>
 #include <vector>
 
+#include <CGAL/Cartesian_converter.h>
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
@@ -60,7 +67,162 @@ cb_status check(cb_mesh_check_report *r, const cb_mesh_struct *m, cb_error *err)
     return CB_OK;
 }
 
+// The contacts are constructed exactly: two triangles that touch along an edge are nearly
+// coplanar there, where floating-point constructions break down.
+using Exact = CGAL::Exact_predicates_exact_constructions_kernel;
+using To_exact = CGAL::Cartesian_converter<Kernel, Exact>;
+using Face = Mesh::Face_index;
+
+// Distance from p to the nearest edge of t.
+double boundary_distance(const Exact::Triangle_3 &t, const Exact::Point_3 &p)
+{
+    double d2 = HUGE_VAL;
+    for (int k = 0; k < 3; k++)
+        d2 = std::min(d2, CGAL::to_double(CGAL::squared_distance(
+                              p, Exact::Segment_3(t.vertex(k), t.vertex((k + 1) % 3)))));
+    return std::sqrt(d2);
+}
+
+struct Contacts {
+    const Mesh &mesh;
+    double eps;
+    To_exact exact;
+
+    Exact::Triangle_3 triangle(Face f) const
+    {
+        auto h = mesh.halfedge(f);
+        return exact(Kernel::Triangle_3(mesh.point(mesh.source(h)), mesh.point(mesh.target(h)),
+                                        mesh.point(mesh.target(mesh.next(h)))));
+    }
+
+    // The triangles of `rest` around the points `at` (its corners within eps of them, or
+    // else those of its edge nearest them) all lie on one side of the plane of `other`
+    // (exact orientations; points in the plane count for either side): near the contact,
+    // rest's surface stays on one side of other's instead of passing through it.
+    bool one_side(Face rest, Face other, const std::vector<Exact::Point_3> &at) const
+    {
+        auto h0 = mesh.halfedge(other);
+        const Point &o0 = mesh.point(mesh.source(h0)), &o1 = mesh.point(mesh.target(h0)),
+                    &o2 = mesh.point(mesh.target(mesh.next(h0)));
+        std::vector<Mesh::Halfedge_index> corners;
+        for (auto h : CGAL::halfedges_around_face(mesh.halfedge(rest), mesh))
+            for (const Exact::Point_3 &p : at)
+                if (std::sqrt(CGAL::to_double(CGAL::squared_distance(
+                        exact(mesh.point(mesh.target(h))), p))) <= eps) {
+                    corners.push_back(h);
+                    break;
+                }
+        if (corners.empty()) {
+            // The contact lies inside an edge of rest: that edge's two ends.
+            double best = HUGE_VAL;
+            for (auto h : CGAL::halfedges_around_face(mesh.halfedge(rest), mesh)) {
+                Exact::Segment_3 e(exact(mesh.point(mesh.source(h))),
+                                   exact(mesh.point(mesh.target(h))));
+                double d = 0;
+                for (const Exact::Point_3 &p : at)
+                    d = std::max(d, CGAL::to_double(CGAL::squared_distance(e, p)));
+                if (d < best) {
+                    best = d;
+                    corners = {h, mesh.prev(h)};
+                }
+            }
+        }
+        int below = 0, above = 0;
+        for (auto c : corners)
+            for (Face f : CGAL::faces_around_target(c, mesh)) {
+                if (f == Mesh::null_face())
+                    continue;
+                for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
+                    CGAL::Orientation o = CGAL::orientation(o0, o1, o2, mesh.point(v));
+                    below |= o == CGAL::NEGATIVE;
+                    above |= o == CGAL::POSITIVE;
+                }
+            }
+        return !(below && above);
+    }
+
+    // Two intersecting triangles touch when their intersection (constructed exactly; a point,
+    // a segment, or a coplanar overlap) lies on the boundary of both — checked at its corners
+    // and the midpoints of its sides, so that a segment across the inside of either or an
+    // overlap of positive area is caught — or on the boundary of one that, around it, stays on
+    // one side of the other's plane.
+    bool touch(Face fa, Face fb) const
+    {
+        Exact::Triangle_3 a = triangle(fa), b = triangle(fb);
+        if (fa == fb || a.is_degenerate() || b.is_degenerate())
+            return false;
+        auto x = CGAL::intersection(a, b);
+        if (!x)
+            return false;
+        std::vector<Exact::Point_3> corners;
+        if (const Exact::Point_3 *p = boost::get<Exact::Point_3>(&*x))
+            corners.push_back(*p);
+        else if (const Exact::Segment_3 *g = boost::get<Exact::Segment_3>(&*x))
+            corners = {g->source(), g->target()};
+        else
+            return false; // coplanar overlap: one surface lies on the other
+        std::vector<Exact::Point_3> probes = corners;
+        if (corners.size() == 2)
+            probes.push_back(CGAL::midpoint(corners[0], corners[1]));
+        bool on_a = true, on_b = true;
+        for (const Exact::Point_3 &p : probes) {
+            on_a = on_a && boundary_distance(a, p) <= eps;
+            on_b = on_b && boundary_distance(b, p) <= eps;
+        }
+        if (on_a && on_b)
+            return true;
+        if (on_a)
+            return one_side(fa, fb, corners);
+        if (on_b)
+            return one_side(fb, fa, corners);
+        return false;
+    }
+};
+
+cb_status contacts(int *touching, int *crossing, const cb_mesh_struct *m, double eps,
+                   cb_error *err)
+{
+    std::vector<Point> points;
+    points.reserve((size_t)m->n_vertices);
+    for (size_t v = 0; v < (size_t)m->n_vertices; v++)
+        points.emplace_back(m->xyz[3 * v], m->xyz[3 * v + 1], m->xyz[3 * v + 2]);
+    std::vector<std::array<std::size_t, 3>> triangles((size_t)m->n_triangles);
+    for (size_t f = 0; f < triangles.size(); f++)
+        for (int k = 0; k < 3; k++)
+            triangles[f][k] = (std::size_t)m->tri[3 * f + k];
+    // One copy of a vertex per fan of triangles around it (the caller checked the orientation,
+    // so nothing is turned): where parts of the surface meet at a point they become separate
+    // there, and their meeting is then a contact between triangles like any other.
+    PMP::orient_polygon_soup(points, triangles);
+    if (!PMP::is_polygon_soup_a_polygon_mesh(triangles))
+        return cb_error_set(err, CB_ERR_INVALID,
+                            "mesh contacts: CGAL does not accept the mesh as a polygon mesh");
+    Mesh mesh;
+    PMP::polygon_soup_to_polygon_mesh(points, triangles, mesh);
+    std::vector<std::pair<Face, Face>> pairs;
+    PMP::self_intersections(mesh, std::back_inserter(pairs));
+    Contacts c{mesh, eps, To_exact()};
+    *touching = *crossing = 0;
+    for (const auto &fp : pairs)
+        ++*(c.touch(fp.first, fp.second) ? touching : crossing);
+    return CB_OK;
+}
+
 } // namespace
+
+extern "C" cb_status cb_tess_check_cgal_contacts(int *touching, int *crossing,
+                                                 const cb_mesh_t m, double eps, cb_error *err)
+{
+    try {
+        return contacts(touching, crossing, m, eps, err);
+    } catch (const std::bad_alloc &) {
+        return cb_error_set(err, CB_ERR_NOMEM, "mesh contacts: out of memory in CGAL");
+    } catch (const std::exception &e) {
+        return cb_error_set(err, CB_ERR_NUMERIC, "mesh contacts: CGAL failed: %s", e.what());
+    } catch (...) {
+        return cb_error_set(err, CB_ERR_NUMERIC, "mesh contacts: CGAL failed");
+    }
+}
 
 extern "C" cb_status cb_tess_check_cgal(cb_mesh_check_report *r, const cb_mesh_t m, cb_error *err)
 {

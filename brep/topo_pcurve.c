@@ -694,11 +694,15 @@ static double image_gap(const cb_topo_curve *pc, const cb_topo_inverter *inv, co
 /* Projects the 3D point p onto the image of 2D curve pc on the surface. Starts: the nearest
  * pcurve point in (u, v) to the lifts of p's inversion, and for a bounded pcurve 64 samples of
  * [lo, hi] (the (u, v) metric can be far from the 3D one near a collapsed boundary); the best
- * is refined by golden-section search on the 3D distance. Returns that distance. */
+ * is refined by golden-section search on the 3D distance. Returns that distance. A line
+ * pcurve on a periodic surface passes over p once per period, at distances equal up to
+ * rounding: among lifts within tie of the nearest, the one whose parameter is nearest
+ * `prefer` is taken, so that both ends of a coedge come from the same turn. */
 static double project_on_pcurve(double *s, const cb_topo_curve *pc, const cb_topo_inverter *inv,
-                                const double p[3], double lo, double hi)
+                                const double p[3], double lo, double hi, double prefer,
+                                double tie)
 {
-    double uv[2], best = HUGE_VAL, h = 0;
+    double uv[2], best = HUGE_VAL, nearest = HUGE_VAL, h = 0;
     cb_topo_inverter_invert(uv, inv, p, NULL);
     for (int i = -1; i <= 1; i++)
         for (int j = -1; j <= 1; j++) {
@@ -707,10 +711,12 @@ static double project_on_pcurve(double *s, const cb_topo_curve *pc, const cb_top
             double w[3] = {uv[0] + i * inv->lift[0], uv[1] + j * inv->lift[1], 0}, x;
             cb_topo_curve_project(&x, pc, w, lo, hi);
             double d = image_gap(pc, inv, p, x);
-            if (d < best) {
+            if (d < nearest - tie ||
+                (d <= nearest + tie && fabs(x - prefer) < fabs(*s - prefer))) {
                 best = d;
                 *s = x;
             }
+            nearest = fmin(nearest, d);
         }
     if (pc->kind != CB_CURVE_LINE) {
         h = (hi - lo) / 64;
@@ -785,7 +791,8 @@ double cb_topo_coedge_pcurve_range(double *s0, double *s1, const cb_topo_body *b
     }
     gap = 0;
     for (int k = 0; k < 2; k++)
-        gap = fmax(gap, project_on_pcurve(&t[k], pc, inv, ends[k], lo, hi));
+        gap = fmax(gap, project_on_pcurve(&t[k], pc, inv, ends[k], lo, hi, k ? ed->t1 : ed->t0,
+                                          tol));
     double len = hi - lo, a[3], z[3];
     cb_topo_curve_eval(a, pc, lo);
     cb_topo_curve_eval(z, pc, hi);

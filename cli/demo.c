@@ -27,12 +27,14 @@ static const char DEMO_USAGE[] =
     "(closed, manifold, self-intersections) and written to DIR as NAME_OP.stl, NAME_OP.obj and a\n"
     "picture NAME_OP.svg. Prints one table row per operation:\n"
     "  ok       valid, mesh closed and manifold without self-intersections, volume within the\n"
-    "           error bar of the reference; \"ok (solids touch)\": the mesh crosses itself\n"
-    "           only where the result's solids touch (a union of operands that touch along a\n"
-    "           line: not a manifold solid there, as the exact union is not)\n"
+    "           error bar of the reference; \"ok (solids touch)\", \"ok (touches itself)\":\n"
+    "           the mesh meets itself, its triangles touching there and none crossing, where\n"
+    "           the result's solids touch each other or the solid touches itself (a union of\n"
+    "           operands that touch along a line: not a manifold solid there, as the exact\n"
+    "           union is not)\n"
     "  WRONG    a result that fails one of those (the column says which)\n"
-    "  refused  the operation stopped with a message (a configuration not handled yet, such\n"
-    "           as coincident faces or a cylinder tangent along a line): no result, by design\n"
+    "  refused  the operation stopped with a message (a configuration not handled yet, or a\n"
+    "           face pair whose intersection could not be certified): no result, by design\n"
     "\n"
     "Error bars (absolute): closed forms, 1e-6 of the reference plus 1e-9 (V(A) + V(B)); the\n"
     "birds, three standard deviations of the estimate of V(A n B).\n"
@@ -94,8 +96,12 @@ static void run_op(tally *t, const cb_model_scenario *L, int opk, const char *di
     double ref = L->ref[opk], dv = r.volume - ref;
     double rel = ref != 0 ? fabs(dv) / fabs(ref) : fabs(dv);
     int in_bar = fabs(dv) <= L->bar[opk];
-    int mesh_ok =
-        r.mesh_done && r.closed && r.manifold && (r.self_intersections == 0 || r.touching);
+    int mesh_ok = r.mesh_done && r.closed &&
+                  ((r.manifold && r.self_intersections == 0) || r.touching);
+    char mesh_why[64];
+    snprintf(mesh_why, sizeof mesh_why, r.crossing ? "mesh crosses itself (%d pairs of triangles)"
+                                                   : "mesh check failed",
+             r.crossing);
     char mesh_txt[32];
     if (!r.mesh_done)
         snprintf(mesh_txt, sizeof mesh_txt, "not made");
@@ -105,12 +111,15 @@ static void run_op(tally *t, const cb_model_scenario *L, int opk, const char *di
         snprintf(mesh_txt, sizeof mesh_txt, "%s%s%s", r.closed ? "C" : "-", r.manifold ? "M" : "-",
                  r.self_intersections == 0 ? "S" : r.self_intersections < 0 ? "?" : "x");
     const char *why = !r.valid ? r.message
-                      : !mesh_ok ? "mesh check failed"
+                      : !mesh_ok ? mesh_why
                       : !in_bar  ? "volume outside the error bar"
                                  : NULL;
     if (r.mesh_done && r.triangles > 0 && write_outputs(dir, L->name, op, mesh, &err) && !why)
         why = err.msg;
-    const char *note = why ? why : r.touching ? " (solids touch)" : "";
+    const char *note = why                           ? why
+                       : !r.touching                 ? ""
+                       : r.solids >= 2               ? " (solids touch)"
+                                                     : " (touches itself)";
     printf("%13.9g %13.9g %9.2e %8.1e %-16s %7.2f  %s%s\n", r.volume, ref, rel, L->bar[opk],
            mesh_txt, cb_cli_seconds() - t0, why ? "WRONG: " : "ok", note);
     fflush(stdout);

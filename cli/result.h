@@ -14,18 +14,21 @@ typedef struct {
     int mesh_done;                      /* the fields below are set */
     int triangles, closed, manifold, self_intersections;
     double mesh_volume;
-    int touching;                       /* the mesh crosses itself only because the result's
-                                           solids touch (see cb_cli_result_check) */
+    int touching;                       /* the mesh meets itself only where the result
+                                           touches itself (see cb_cli_result_check) */
+    int crossing;                       /* pairs of triangles found crossing where the mesh
+                                           meets itself (0: not looked for, or none) */
 } cb_cli_result;
 
 /* Validates res at its tolerance, integrates its volume and area (CB_MASS_REL_TOL), tessellates
  * it into mesh (replacing its contents; default tolerances) and checks the mesh (closed,
  * manifold, self-intersections, volume); the first failure is r->message. The empty body (no
- * face) is valid with volume 0 and an empty mesh that passes every check. A valid result of
- * several solids whose closed, edge-manifold mesh CGAL reports self-intersecting is marked
- * touching, with a message saying so: its solids touch along curves or at points (a union of
- * operands that touch: not a manifold solid there, as the exact result is not); each solid's
- * own surface is not checked apart. */
+ * face) is valid with volume 0 and an empty mesh that passes every check. A valid result
+ * whose closed mesh meets itself (vertices where triangles form several fans, or CGAL's
+ * self-intersections) with every pair of triangles that meet touching, none crossing
+ * (cb_mesh_check_contacts within the result's tolerance), is marked touching, with a message
+ * saying so: it touches itself, or its solids touch each other, along curves or at points (a
+ * union of operands that touch: not a manifold solid there, as the exact result is not). */
 void cb_cli_result_check(cb_cli_result *r, cb_topo_body *res, cb_mesh_t mesh,
                          cb_context *ctx);
 

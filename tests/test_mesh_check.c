@@ -233,6 +233,104 @@ static void test_bad_shapes(void)
     cb_mesh_clear(b);
 }
 
+/* Two closed meshes a and b put together, their contacts counted at eps. */
+static cb_status contacts_of(cb_mesh_contacts *c, const cb_mesh_t a, const cb_mesh_t b, double eps,
+                             cb_error *err)
+{
+    cb_mesh_t m;
+    cb_mesh_init(m);
+    cb_status st = cb_mesh_append(m, a, err);
+    if (!st)
+        st = cb_mesh_append(m, b, err);
+    if (!st)
+        st = cb_mesh_check_contacts(c, m, eps, err);
+    cb_mesh_clear(m);
+    return st;
+}
+
+/* Where a mesh meets itself, touching is told from crossing: boxes that share a corner, an
+ * edge or part of an edge, a wedge standing on a face, against boxes and wedges that cut into
+ * each other. Exact coordinates: the counts do not depend on eps. */
+static void test_contacts(void)
+{
+    cb_mesh_t a, b, m;
+    cb_mesh_init(a);
+    cb_mesh_init(b);
+    cb_mesh_init(m);
+    cb_error err;
+    cb_mesh_contacts c;
+    const double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
+    cb_mesh_box(a, lo, hi, &err);
+    static const struct {
+        const char *name;
+        double lo[3], hi[3];
+        int crossing; /* expected: 0, or more than 0 */
+    } boxes[] = {{"a shared corner", {1, 1, 1}, {2, 2, 2}, 0},
+                 {"a shared edge", {1, 1, 0}, {2, 2, 1}, 0},
+                 {"part of an edge", {1, 1, 0.25}, {2, 2, 2}, 0},
+                 {"a corner cut in", {0.75, 0.75, 0.75}, {2, 2, 2}, 1},
+                 {"an edge cut in", {0.9, 0.9, 0}, {2, 2, 1}, 1}};
+    for (size_t k = 0; k < sizeof boxes / sizeof boxes[0]; k++) {
+        cb_mesh_box(b, boxes[k].lo, boxes[k].hi, &err);
+        for (int e = 0; e < 3; e++) {
+            double eps = e == 0 ? 1e-12 : e == 1 ? 1e-6 : 1e-3;
+            cb_status st = contacts_of(&c, a, b, eps, &err);
+            CHECK(st == CB_OK && c.touching + c.crossing > 0 &&
+                      (boxes[k].crossing ? c.crossing > 0 : c.crossing == 0),
+                  "boxes meeting at %s (eps %g): %d pairs touching, %d crossing (%s)",
+                  boxes[k].name, eps, c.touching, c.crossing, st ? err.msg : "");
+        }
+    }
+
+    /* The corner shared as one vertex of two fans: the same contact. */
+    cb_mesh_box(b, boxes[0].lo, boxes[0].hi, &err);
+    cb_mesh_append(m, a, &err);
+    cb_mesh_append(m, b, &err);
+    cb_mesh_merge_vertices(m, 0, NULL, &err);
+    CHECK(m->n_vertices == 15 && cb_mesh_check_contacts(&c, m, 1e-9, &err) == CB_OK &&
+              c.touching > 0 && c.crossing == 0,
+          "pinched boxes: %d vertices, %d pairs touching, %d crossing", m->n_vertices, c.touching,
+          c.crossing);
+
+    /* A wedge (tetrahedron) standing on its edge in the middle of the box's top face touches
+     * it along that edge, inside the face's triangles; pushed down by 0.01 it cuts in. */
+    double wedge[4][3] = {{0.3, 0.5, 1}, {0.7, 0.5, 1}, {0.5, 0.3, 1.5}, {0.5, 0.7, 1.5}};
+    for (int sunk = 0; sunk < 2; sunk++) {
+        cb_mesh_tetrahedron(b, (const double(*)[3])wedge, &err);
+        cb_status st = contacts_of(&c, a, b, 1e-9, &err);
+        CHECK(st == CB_OK && c.touching + c.crossing > 0 && (sunk ? c.crossing > 0 : c.crossing == 0),
+              "wedge %s the face: %d pairs touching, %d crossing (%s)", sunk ? "cut into" : "on",
+              c.touching, c.crossing, st ? err.msg : "");
+        for (int k = 0; k < 4; k++)
+            wedge[k][2] -= 0.01;
+    }
+
+    /* Bad input: an open mesh, a misoriented one, eps not a positive distance. */
+    cb_mesh_box(m, lo, hi, &err);
+    m->n_triangles--;
+    CHECK(cb_mesh_check_contacts(&c, m, 1e-9, &err) == CB_ERR_INVALID &&
+              strstr(err.msg, "not closed") && c.touching == -1,
+          "open box: %s", err.msg);
+    cb_mesh_box(m, lo, hi, &err);
+    int t0 = m->tri[1];
+    m->tri[1] = m->tri[2];
+    m->tri[2] = t0;
+    CHECK(cb_mesh_check_contacts(&c, m, 1e-9, &err) == CB_ERR_INVALID &&
+              strstr(err.msg, "1 misoriented") == NULL && strstr(err.msg, "3 misoriented"),
+          "box with a flipped triangle: %s", err.msg);
+    cb_mesh_box(m, lo, hi, &err);
+    CHECK(cb_mesh_check_contacts(&c, m, 0, &err) == CB_ERR_INVALID &&
+              cb_mesh_check_contacts(&c, m, NAN, &err) == CB_ERR_INVALID &&
+              strstr(err.msg, "eps"),
+          "eps 0 or NaN accepted: %s", err.msg);
+    CHECK(cb_mesh_check_contacts(&c, m, 1e-9, &err) == CB_OK && c.touching == 0 &&
+              c.crossing == 0,
+          "one box: %d pairs touching, %d crossing", c.touching, c.crossing);
+    cb_mesh_clear(a);
+    cb_mesh_clear(b);
+    cb_mesh_clear(m);
+}
+
 /* Identities of the value type on random input. */
 static void test_value_type(void)
 {
@@ -409,6 +507,7 @@ int main(void)
     test_value_type();
     test_good_shapes();
     test_bad_shapes();
+    test_contacts();
     test_cli();
     clock_gettime(CLOCK_MONOTONIC, &t1);
     printf("mesh_check: %.2f s\n",
