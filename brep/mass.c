@@ -28,6 +28,12 @@ static const double INNER_NOISE = 1e-12, OUTER_NOISE = 5e-2;
  * is rougher than the quadrature expects (an edge crossing a surface's domain boundary). */
 static const long MAX_BISECTIONS = 4000;
 
+/* The derivative of an edge's foot point on its face takes the surface's curvature into
+ * account (J^T J + H) unless that matrix's determinant falls below this fraction of the least
+ * squares one (J^T J): the edge is then about as far from the surface as the surface's radius
+ * of curvature, and the foot point jumps rather than moves with the edge. */
+static const double FOOT_CURVATURE_MIN = 0.25;
+
 /* Gauss-Kronrod 7-15 nodes (x >= 0) and weights; the Gauss nodes are the odd ones. */
 static const double xgk[8] = {
     0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
@@ -333,12 +339,27 @@ static void coedge_node(double uv[2], double duv[2], const face_work *w, const c
         uv[1] = start[1];
         cb_topo_inverter_eval_derivs(d, w->inv, uv[0], uv[1]);
     }
+    /* d(u, v)/dt of the foot point itself: differentiating J^T (S - C) = 0 gives
+     * (J^T J + H) d(u, v)/dt = J^T C', H_ij = (S - C).S_ij. Without H (least squares) the
+     * derivative is off by about the edge's gap times the surface curvature, and the loop
+     * integral, taken with it, then no longer bounds the region the nodes enclose. */
     double a00 = cb_vec3_dot(d[1], d[1]), a01 = cb_vec3_dot(d[1], d[2]),
            a11 = cb_vec3_dot(d[2], d[2]), det = a00 * a11 - a01 * a01;
     if (det > 1e-20 * (a00 + a11) * (a00 + a11)) {
+        double gap[3] = {d[0][0] - cd[0][0], d[0][1] - cd[0][1], d[0][2] - cd[0][2]};
+        double h00 = a00 + cb_vec3_dot(gap, d[3]), h01 = a01 + cb_vec3_dot(gap, d[4]),
+               h11 = a11 + cb_vec3_dot(gap, d[5]), hdet = h00 * h11 - h01 * h01;
+        if (!(h00 > 0 && hdet > FOOT_CURVATURE_MIN * det)) {
+            /* The edge is as far from the surface as the surface's radius of curvature: the
+             * foot point is not a smooth function of t there; the least-squares step. */
+            h00 = a00;
+            h01 = a01;
+            h11 = a11;
+            hdet = det;
+        }
         double b0 = cb_vec3_dot(d[1], cd[1]), b1 = cb_vec3_dot(d[2], cd[1]);
-        duv[0] = (a11 * b0 - a01 * b1) / det * dts;
-        duv[1] = (a00 * b1 - a01 * b0) / det * dts;
+        duv[0] = (h11 * b0 - h01 * b1) / hdet * dts;
+        duv[1] = (h00 * b1 - h01 * b0) / hdet * dts;
     } else {
         duv[0] = pduv[0];
         duv[1] = pduv[1];

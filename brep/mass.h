@@ -23,9 +23,13 @@
  * edge: Newton steps from the pcurve's (u, v) to S(u, v) = C(t), C the edge curve at the node's
  * edge parameter t (the pcurve parameter when the pcurve follows the convention of brep/topo.h,
  * else the projection of S(pcurve) onto the edge, whose derivative is carried exactly), and
- * d(u, v)/dt solves [S_u S_v] d(u, v)/dt = C'(t) in least squares (the pcurve's derivative where
- * the Jacobian is singular, at a pole). The joints between consecutive coedges (pole lines, round-off)
- * are integrated as straight segments in (u, v), so each loop is closed exactly. The result thus
+ * d(u, v)/dt is the derivative of that foot point, (J^T J + H) d(u, v)/dt = J^T C'(t) with
+ * J = [S_u S_v] and H_ij = (S - C).S_ij (the pcurve's derivative where the Jacobian is singular,
+ * at a pole). H matters where the edge lies off the surface: without it the derivative is off
+ * by the gap times the curvature, and the loop integral no longer bounds the region the nodes
+ * enclose (trj5_k1-al-214.stp: 1.5e-5 of one face's area for a gap of 1e-4 cm). The joints
+ * between consecutive coedges (pole lines, round-off) are integrated as straight segments in
+ * (u, v), so each loop is closed exactly. The result thus
  * depends on the surfaces and edge curves alone, not on how well the pcurves were fitted.
  *
  * Accuracy: each integral is refined until the Kronrod-Gauss difference is below rel_tol times the
