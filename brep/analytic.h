@@ -203,4 +203,17 @@ cb_status cb_nurbs_curve_arc(cb_nurbs_curve_t c, const double center[3], const d
 cb_status cb_analytic_to_nurbs(cb_nurbs_surface_t out, const cb_analytic_surface *s, double u0,
                                double u1, double v0, double v1, cb_error *err);
 
+/* The same surface with exact data where the angular ranges allow it: an angular direction
+ * whose arc segments are quarter turns from one whole quarter angle to the next (a full turn
+ * from 0, the latitudes [-pi/2, pi/2]) gets control points and weights exact in binary (end
+ * points on the axes, middle points at the corners of the circumscribed square, weights 1, 1,
+ * 2 per segment times powers of 2: the tangent-half-angle form of the quarter circle), not
+ * cos(pi/4) rounded; other ranges as cb_analytic_to_nurbs. An exact SSI of the converted
+ * surface against another exact surface then sees the tangencies of the analytic ones (rounded
+ * weights move a contact by an ulp, into a near-miss or a crossing that no certificate can
+ * settle). The B-spline parameter equals (u, v) at the knots only, as above, and differs more
+ * between them (the weights are not symmetric). */
+cb_status cb_analytic_to_nurbs_exact(cb_nurbs_surface_t out, const cb_analytic_surface *s,
+                                     double u0, double u1, double v0, double v1, cb_error *err);
+
 #endif

@@ -1,19 +1,38 @@
 /* Exact rational B-spline forms of circular arcs and of the analytic surfaces. */
 #include "brep/analytic.h"
 
+#include <float.h>
+#include <math.h>
 #include <string.h>
 
 static const double pi = 3.14159265358979323846;
 
 enum { ARC_MAX_SEGS = 4, ARC_MAX_POINTS = 2 * ARC_MAX_SEGS + 1 };
 
+/* Whether angle a is a whole number of quarter turns, to its rounding: its quarter count in
+ * *q (0 to 3). */
+static int quarter_turn(double a, int *q)
+{
+    double k = a / (0.5 * pi), r = nearbyint(k);
+    if (!(fabs(k - r) <= 8 * DBL_EPSILON * fmax(1.0, fabs(k))))
+        return 0;
+    *q = (int)(((long)r % 4 + 4) % 4);
+    return 1;
+}
+
 /* The unit arc t -> (cos t, sin t), t in [a0, a1] (at most one turn), as n rational quadratic
  * Bezier segments of equal angle <= pi/2 (The NURBS Book A7.1): 2 n + 1 points xy with weights
  * w, and 2 n + 4 knots, the interior ones doubled at the segment angles. Returns n. End points
  * of segments are computed from their angles, so they are the exact circle points to round-off
- * and the parameter at a knot equals the angle. */
+ * and the parameter at a knot equals the angle. With exact set, segments that are quarter
+ * turns between whole quarter angles are written exactly in binary instead: end points 0 and
+ * +-1, middle points at the corners of the circumscribed square (the sum of the ends), and
+ * weights 1, 1, 2, the tangent-half-angle form of a quarter circle, in place of 1, cos(pi/4)
+ * rounded, 1 (the same arc under a Moebius change of its parameter); the weights of segment k
+ * are multiplied by 2^k, which leaves each segment's curve unchanged and makes the shared end
+ * weights agree. */
 static int unit_arc(double xy[ARC_MAX_POINTS][2], double w[ARC_MAX_POINTS],
-                    double knots[ARC_MAX_POINTS + 3], double a0, double a1)
+                    double knots[ARC_MAX_POINTS + 3], double a0, double a1, int exact)
 {
     double span = a1 - a0;
     int n = span <= 0.5 * pi ? 1 : span <= pi ? 2 : span <= 1.5 * pi ? 3 : 4;
@@ -33,6 +52,24 @@ static int unit_arc(double xy[ARC_MAX_POINTS][2], double w[ARC_MAX_POINTS],
         xy[2 * k + 1][0] = cos(mid) / wm;
         xy[2 * k + 1][1] = sin(mid) / wm;
         w[2 * k + 1] = wm;
+    }
+    int q[ARC_MAX_SEGS + 1];
+    for (int k = 0; exact && k <= n; k++)
+        exact = quarter_turn(th[k], &q[k]) && (k == 0 || q[k] == (q[k - 1] + 1) % 4);
+    if (exact) {
+        static const double C[4] = {1, 0, -1, 0}, S[4] = {0, 1, 0, -1};
+        double scale = 1.0;
+        for (int k = 0; k <= n; k++) {
+            xy[2 * k][0] = C[q[k]];
+            xy[2 * k][1] = S[q[k]];
+            w[2 * k] = scale;
+            if (k < n) {
+                xy[2 * k + 1][0] = C[q[k]] + C[q[k + 1]];
+                xy[2 * k + 1][1] = S[q[k]] + S[q[k + 1]];
+                w[2 * k + 1] = scale;
+            }
+            scale *= 2.0;
+        }
     }
     knots[0] = knots[1] = knots[2] = a0;
     for (int k = 1; k < n; k++)
@@ -82,7 +119,7 @@ cb_status cb_nurbs_curve_arc(cb_nurbs_curve_t c, const double center[3], const d
     if (st)
         return st;
     double xy[ARC_MAX_POINTS][2], w[ARC_MAX_POINTS], knots[ARC_MAX_POINTS + 3];
-    int n = unit_arc(xy, w, knots, a0, a1);
+    int n = unit_arc(xy, w, knots, a0, a1, 0);
     int np = 2 * n + 1;
     cb_nurbs_curve_t t;
     cb_nurbs_curve_init(t);
@@ -156,8 +193,8 @@ static cb_status check_kind_ranges(const cb_analytic_surface *s, double u0, doub
     }
 }
 
-cb_status cb_analytic_to_nurbs(cb_nurbs_surface_t out, const cb_analytic_surface *s, double u0,
-                               double u1, double v0, double v1, cb_error *err)
+static cb_status to_nurbs(cb_nurbs_surface_t out, const cb_analytic_surface *s, double u0,
+                          double u1, double v0, double v1, int exact, cb_error *err)
 {
     cb_status st = check_range(u0, u1, "u", err);
     if (!st)
@@ -174,7 +211,7 @@ cb_status cb_analytic_to_nurbs(cb_nurbs_surface_t out, const cb_analytic_surface
     double cu[ARC_MAX_POINTS][2], wu[ARC_MAX_POINTS], ku[ARC_MAX_POINTS + 3];
     double cv[ARC_MAX_POINTS][2], wv[ARC_MAX_POINTS], kv[ARC_MAX_POINTS + 3];
     double rho[ARC_MAX_POINTS], h[ARC_MAX_POINTS], sx = 1.0, sy = 1.0;
-    int nu = 2 * unit_arc(cu, wu, ku, u0, u1) + 1, nv, deg_v;
+    int nu = 2 * unit_arc(cu, wu, ku, u0, u1, exact) + 1, nv, deg_v;
     if (s->kind == CB_ANALYTIC_CYLINDER || s->kind == CB_ANALYTIC_CONE) {
         /* The radius r + v tan a is linear in v, so a degree-1 profile reproduces it. */
         double ta = s->kind == CB_ANALYTIC_CONE ? tan(s->angle) : 0.0;
@@ -200,7 +237,7 @@ cb_status cb_analytic_to_nurbs(cb_nurbs_surface_t out, const cb_analytic_surface
             sy = s->r2;
         }
         deg_v = 2;
-        nv = 2 * unit_arc(cv, wv, kv, v0, v1) + 1;
+        nv = 2 * unit_arc(cv, wv, kv, v0, v1, exact) + 1;
         for (int j = 0; j < nv; j++) {
             rho[j] = A + B * cv[j][0];
             h[j] = C * cv[j][1];
@@ -226,4 +263,16 @@ cb_status cb_analytic_to_nurbs(cb_nurbs_surface_t out, const cb_analytic_surface
     cb_nurbs_surface_swap(out, t);
     cb_nurbs_surface_clear(t);
     return CB_OK;
+}
+
+cb_status cb_analytic_to_nurbs(cb_nurbs_surface_t out, const cb_analytic_surface *s, double u0,
+                               double u1, double v0, double v1, cb_error *err)
+{
+    return to_nurbs(out, s, u0, u1, v0, v1, 0, err);
+}
+
+cb_status cb_analytic_to_nurbs_exact(cb_nurbs_surface_t out, const cb_analytic_surface *s,
+                                     double u0, double u1, double v0, double v1, cb_error *err)
+{
+    return to_nurbs(out, s, u0, u1, v0, v1, 1, err);
 }

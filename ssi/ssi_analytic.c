@@ -1070,9 +1070,12 @@ static void result_dist(cb_ssi_result_t r, const actx *g, const cb_ssi_point *p)
 
 /* The general route. The side whose parameterisation, substituted into the other's equation,
  * gives the lower degree is written as its exact rational B-spline (B on a tie) and the pair
- * runs as analytic/NURBS. When even that degree is 8 or more (torus against torus: phi of
- * bidegree (8, 8), a minute of topology) both are converted and the pair runs as NURBS/NURBS,
- * where their rounded weights send it to the subdivision route. */
+ * runs as analytic/NURBS. The conversion is exact in binary where the angular ranges are whole
+ * quarter turns (cb_analytic_to_nurbs_exact): a contact or node of the two surfaces then stays
+ * one in phi, where cos(pi/4) rounded would make it a near-miss the topology cannot certify
+ * (the paper's Table 4 torus/ellipsoid pairs). When even that degree is 8 or more (torus
+ * against torus: phi of bidegree (8, 8), a minute of topology) both are converted and the pair
+ * runs as NURBS/NURBS, where the subdivision route takes it. */
 static cb_status general_route(cb_ssi_result_t r, const actx *g, int fa, int fb,
                                const cb_ssi_opts *opts, cb_error *err)
 {
@@ -1092,7 +1095,7 @@ static cb_status general_route(cb_ssi_result_t r, const actx *g, int fa, int fb,
             continue;
         }
         if (st == CB_OK)
-            st = cb_analytic_to_nurbs(net[k], q->a, q->range[0], q->range[1], q->range[2],
+            st = cb_analytic_to_nurbs_exact(net[k], q->a, q->range[0], q->range[1], q->range[2],
                                       q->range[3], err);
         if (st != CB_OK && st != CB_ERR_NOMEM) {
             char msg[200];
