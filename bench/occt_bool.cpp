@@ -1,11 +1,13 @@
 // Open CASCADE side of the Boolean comparison (built only when OCCT is installed; see
 // scripts/setup-bench; run by bench_scenarios). For two STEP solids A and B and each of
 // union, intersection and A - B (BRepAlgoAPI_Fuse, _Common, _Cut, parallel mode on): the
-// median wall time of RUNS runs, whether OCCT reports an error, the result's validity
-// (BRepCheck_Analyzer), faces and volume by adaptive integration (the default Gauss rule is
-// off by up to ~1% on rational faces).
-// Usage: occt_bool RUNS A.step B.step
-// Output, one line per operation: OP TIME_MS ERROR VALID FACES VOLUME
+// median, least and largest wall time of RUNS runs, whether OCCT reports an error, the
+// result's validity (BRepCheck_Analyzer), faces and volume by adaptive integration (the
+// default Gauss rule is off by up to ~1% on rational faces). With OP, only that operation
+// ("none": only read the files), so that bench_scenarios can take each one's peak memory
+// from a process of its own.
+// Usage: occt_bool RUNS A.step B.step [union|intersection|difference|none]
+// Output, one line per operation: OP MEDIAN_MS MIN_MS MAX_MS ERROR VALID FACES VOLUME
 #include <BRepAlgoAPI_Common.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepAlgoAPI_Fuse.hxx>
@@ -19,6 +21,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -60,8 +63,9 @@ static std::unique_ptr<BRepAlgoAPI_BooleanOperation> make_op(int k, const TopoDS
 
 int main(int argc, char **argv)
 {
-    if (argc != 4) {
-        std::fprintf(stderr, "usage: occt_bool RUNS A.step B.step\n");
+    if (argc != 4 && argc != 5) {
+        std::fprintf(stderr,
+                     "usage: occt_bool RUNS A.step B.step [union|intersection|difference|none]\n");
         return 2;
     }
     int runs = std::max(1, std::atoi(argv[1]));
@@ -72,6 +76,8 @@ int main(int argc, char **argv)
     }
     static const char *const names[3] = {"union", "intersection", "difference"};
     for (int k = 0; k < 3; k++) {
+        if (argc == 5 && std::strcmp(argv[4], names[k]))
+            continue;
         std::vector<double> t;
         TopoDS_Shape result;
         bool error = false;
@@ -96,8 +102,8 @@ int main(int argc, char **argv)
             valid = BRepCheck_Analyzer(result).IsValid();
             faces = count_faces(result);
         }
-        std::printf("%s %.3f %d %d %d %.17g\n", names[k], 1e3 * t[t.size() / 2], error ? 1 : 0,
-                    valid ? 1 : 0, faces, volume);
+        std::printf("%s %.3f %.3f %.3f %d %d %d %.17g\n", names[k], 1e3 * t[t.size() / 2],
+                    1e3 * t.front(), 1e3 * t.back(), error ? 1 : 0, valid ? 1 : 0, faces, volume);
     }
     return 0;
 }

@@ -1,0 +1,862 @@
+/* The SSI topology cases, Colibri beside Open CASCADE: surface pairs whose intersection has a
+ * known topology, with the time of cb_ssi_surfaces on 1 and 2 threads (median, min, max of
+ * RUNS runs), the number of curve components and isolated points it finds against the true
+ * ones, and, when the OCCT comparator (occt_ssi) is given, the same from GeomInt_IntSS (the
+ * engine of GeomAPI_IntSS, which also returns its isolated points) on the same two surfaces.
+ *
+ * The cases (Yang, Jia, Yan, ACM TOG 2023):
+ *   - graph pairs of the Fig. 1 classes: P the saddle z = S c (u - 1/2)(v - 1/2) over the square
+ *     [0, S]^2 (bilinear), Q the graph z = P + S h(u, v) / 2^k over the same square, so that the
+ *     two meet exactly where the designed polynomial h vanishes: crossing loops, an isolated
+ *     contact beside two branches, boundary curves, a tangential line between boundary curves,
+ *     two loops touching at a point, contact along a whole curve, three isolated contacts, a
+ *     loop of radius 1e-3 of the square. Control points are exact in binary: h has integer
+ *     coefficients, the Bernstein coefficients are formed in integers, and the whole pair is
+ *     scaled by S, the odd part of the Bernstein denominators (the tangencies survive only if
+ *     nothing is rounded);
+ *   - the paper's Example 2 (appendix A): its rational bicubic P over [0, 1]^2 and Q over
+ *     [-1, 1] x [0, 2], power coefficients turned into integer homogeneous control points;
+ *   - the torus/ellipsoid pairs of its Table 4, analytic for Colibri; for OCCT the torus is a
+ *     Geom_ToroidalSurface and the ellipsoid (OCCT has none) its exact rational B-spline.
+ *
+ * Topology figures: curve components (curves joined where one comes within 100 tol of
+ * another: at shared end points, crossings and contacts, which OCCT need not split its curves
+ * at) and isolated points (points farther than that from every curve). Verdicts: ok (both
+ * counts right), gaps (right only when curves within 1e-3 of the model size are joined: ends
+ * that stop short of a node), WRONG, refused (Colibri reported patch pairs it could not
+ * certify), fails (an error), - (true topology not established). d(C,O), d(O,C): largest
+ * distance, relative to the model size, of one side's curve points from the other's polylines
+ * (a branch one side lacks shows there; Colibri's chords may stand 1e-3 of the size off the
+ * curve, so d(O,C) up to that is agreement).
+ *
+ * Usage: bench_ssi_cases [RUNS [OCCT_SSI [JSON_OUT]]]   (RUNS default 3; "-": no OCCT) */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "brep/analytic.h"
+#include "io/json.h"
+#include "ssi/ssi.h"
+
+#define MAX_RUNS 64
+#define MAX_DEG 6
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static int cmp(const void *x, const void *y)
+{
+    double a = *(const double *)x, b = *(const double *)y;
+    return (a > b) - (a < b);
+}
+
+/* ---------------------------------------------------------------- exact polynomials -------- */
+
+/* Integer polynomial sum c[i][j] s^i t^j, degrees at most MAX_DEG. */
+typedef struct {
+    long long c[MAX_DEG + 1][MAX_DEG + 1];
+} poly;
+
+/* a s + b t + c */
+static poly lin(long long a, long long b, long long c)
+{
+    poly p;
+    memset(&p, 0, sizeof p);
+    p.c[1][0] = a;
+    p.c[0][1] = b;
+    p.c[0][0] = c;
+    return p;
+}
+
+static poly mul(poly a, poly b)
+{
+    poly p;
+    memset(&p, 0, sizeof p);
+    for (int i = 0; i <= MAX_DEG; i++)
+        for (int j = 0; j <= MAX_DEG; j++)
+            for (int k = 0; k <= MAX_DEG - i; k++)
+                for (int l = 0; l <= MAX_DEG - j; l++)
+                    p.c[i + k][j + l] += a.c[i][j] * b.c[k][l];
+    return p;
+}
+
+static poly add(poly a, poly b, long long k)
+{
+    for (int i = 0; i <= MAX_DEG; i++)
+        for (int j = 0; j <= MAX_DEG; j++)
+            a.c[i][j] += k * b.c[i][j];
+    return a;
+}
+
+/* (a s - b)^2 + (a t - c)^2 - r2: a circle of radius sqrt(r2) / a about (b, c) / a. */
+static poly circle(long long a, long long b, long long c, long long r2)
+{
+    poly x = lin(a, 0, -b), y = lin(0, a, -c);
+    return add(add(mul(x, x), mul(y, y), 1), lin(0, 0, 1), -r2);
+}
+
+static void degrees(int *ds, int *dt, const poly *p)
+{
+    *ds = *dt = 0;
+    for (int i = 0; i <= MAX_DEG; i++)
+        for (int j = 0; j <= MAX_DEG; j++)
+            if (p->c[i][j]) {
+                *ds = i > *ds ? i : *ds;
+                *dt = j > *dt ? j : *dt;
+            }
+}
+
+static long long fact(int n)
+{
+    return n <= 1 ? 1 : n * fact(n - 1);
+}
+
+static long long binom(int n, int k)
+{
+    return fact(n) / (fact(k) * fact(n - k));
+}
+
+/* Bernstein coefficients of p(s0 + ds sigma, t0 + dt tau) of degree (m, n) on [0, 1]^2, times
+ * D = m! n!: integers, out[k * (n + 1) + l]. Returns 0 when a value leaves the range where
+ * doubles are exact. */
+static int bernstein(long long *out, const poly *p, int m, int n, long long s0, long long ds,
+                     long long t0, long long dt)
+{
+    /* Power coefficients in (sigma, tau) after the affine substitution. */
+    poly q;
+    memset(&q, 0, sizeof q);
+    for (int i = 0; i <= m; i++)
+        for (int j = 0; j <= n; j++) {
+            if (!p->c[i][j])
+                continue;
+            for (int a = 0; a <= i; a++)
+                for (int b = 0; b <= j; b++) {
+                    long long v = p->c[i][j] * binom(i, a) * binom(j, b);
+                    for (int e = 0; e < i - a; e++)
+                        v *= s0;
+                    for (int e = 0; e < a; e++)
+                        v *= ds;
+                    for (int e = 0; e < j - b; e++)
+                        v *= t0;
+                    for (int e = 0; e < b; e++)
+                        v *= dt;
+                    q.c[a][b] += v;
+                }
+        }
+    /* b_kl = sum C(k,i) C(l,j) q_ij / (C(m,i) C(n,j)), and m! / C(m,i) = i! (m - i)!. */
+    for (int k = 0; k <= m; k++)
+        for (int l = 0; l <= n; l++) {
+            long long v = 0;
+            for (int i = 0; i <= k; i++)
+                for (int j = 0; j <= l; j++)
+                    v += binom(k, i) * binom(l, j) * fact(i) * fact(m - i) * fact(j) *
+                         fact(n - j) * q.c[i][j];
+            if (llabs(v) >= (1LL << 53))
+                return 0;
+            out[k * (n + 1) + l] = v;
+        }
+    return 1;
+}
+
+/* ---------------------------------------------------------------- cases -------------------- */
+
+typedef struct {
+    const char *name, *cls;  /* case and the Fig. 1 class or source */
+    int components, points;  /* true topology: curve components, isolated points */
+    const char *truth;       /* in words */
+    cb_ssi_surface A, B;
+    cb_nurbs_surface_t na, nb; /* NURBS sides (owned) */
+    /* What OCCT gets: the NURBS sides, or the analytic torus and the ellipsoid's B-spline. */
+    int occt_torus_a;
+    cb_nurbs_surface_t occt_b;
+} ssi_case;
+
+static void clamped_knots(double *k, int deg, double a, double b)
+{
+    for (int i = 0; i <= deg; i++) {
+        k[i] = a;
+        k[deg + 1 + i] = b;
+    }
+}
+
+/* Graph pair for h (see the header): returns 0 when the numbers are not exact. */
+static int graph_pair(ssi_case *c, const poly *h)
+{
+    int m, n;
+    degrees(&m, &n, h);
+    m = m < 1 ? 1 : m;
+    n = n < 1 ? 1 : n;
+    long long N[(MAX_DEG + 1) * (MAX_DEG + 1)];
+    if (!bernstein(N, h, m, n, 0, 1, 0, 1))
+        return 0;
+    /* D = m! n! = S 2^e with S odd; scale 2^k so that |h| / 2^k <= 1/4 on the square. */
+    long long D = fact(m) * fact(n), S = D;
+    int e = 0;
+    while (!(S & 1)) {
+        S >>= 1;
+        e++;
+    }
+    long long big = 1;
+    for (int k = 0; k < (m + 1) * (n + 1); k++)
+        big = llabs(N[k]) > big ? llabs(N[k]) : big;
+    double hscale = 0.25;
+    while ((double)big / D * hscale > 0.25)
+        hscale *= 0.5;
+    const double cs = 1; /* the saddle's c */
+    double kn[2 * (MAX_DEG + 1)], km[2 * (MAX_DEG + 1)];
+    double *pq = malloc((size_t)(m + 1) * (n + 1) * 3 * sizeof(double)), pp[12];
+    for (int k = 0; k <= m; k++)
+        for (int l = 0; l <= n; l++) {
+            double *X = pq + 3 * (k * (n + 1) + l);
+            /* S k / m, S l / n and S c (k/m - 1/2)(l/n - 1/2) are dyadic: S holds the odd
+             * parts of m and n. */
+            X[0] = (double)S * k / m;
+            X[1] = (double)S * l / n;
+            X[2] = cs * (double)S * (2 * k - m) * (2 * l - n) / (4.0 * m * n) +
+                   ldexp((double)N[k * (n + 1) + l], -e) * hscale;
+        }
+    for (int k = 0; k < 4; k++) {
+        pp[3 * k] = (double)S * (k >> 1);
+        pp[3 * k + 1] = (double)S * (k & 1);
+        pp[3 * k + 2] = cs * (double)S * ((k >> 1) ? 0.25 : -0.25) * ((k & 1) ? 1 : -1);
+    }
+    cb_error err;
+    clamped_knots(kn, m, 0, 1);
+    clamped_knots(km, n, 0, 1);
+    double k1[4] = {0, 0, 1, 1};
+    int ok = cb_nurbs_surface_make(c->na, 1, 1, k1, 4, k1, 4, pp, NULL, 2, 2, &err) == CB_OK &&
+             cb_nurbs_surface_make(c->nb, m, n, kn, 2 * m + 2, km, 2 * n + 2, pq, NULL, m + 1,
+                                   n + 1, &err) == CB_OK;
+    free(pq);
+    cb_ssi_surface_set_nurbs(&c->A, c->na);
+    cb_ssi_surface_set_nurbs(&c->B, c->nb);
+    return ok;
+}
+
+/* A rational bicubic patch from power coefficients (component q of s^i t^j in hc[16 q + 4 i +
+ * j], q = x, y, z, w) over [s0, s0 + ds] x [t0, t0 + dt]: homogeneous control points are the
+ * Bernstein coefficients times 36 (a common factor of all four leaves the surface as it is), so
+ * integers. */
+static int rational_patch(cb_nurbs_surface_t out, const double hc[64], long long s0, long long ds,
+                          long long t0, long long dt)
+{
+    cb_error err;
+    if (cb_nurbs_surface_alloc(out, 3, 3, 4, 4, &err) != CB_OK)
+        return 0;
+    clamped_knots(out->knots_u, 3, (double)s0, (double)(s0 + ds));
+    clamped_knots(out->knots_v, 3, (double)t0, (double)(t0 + dt));
+    for (int q = 0; q < 4; q++) {
+        poly p;
+        memset(&p, 0, sizeof p);
+        for (int i = 0; i < 4; i++)
+            for (int j = 0; j < 4; j++)
+                p.c[i][j] = (long long)hc[16 * q + 4 * i + j];
+        long long N[16];
+        if (!bernstein(N, &p, 3, 3, s0, ds, t0, dt))
+            return 0;
+        for (int k = 0; k < 16; k++)
+            out->cw[4 * k + q] = (double)N[k];
+    }
+    return cb_nurbs_surface_validate(out, &err) == CB_OK;
+}
+
+/* The paper's Example 2 (appendix A; the P of its Example 1). */
+static int example2(ssi_case *c)
+{
+    static const struct {
+        int q, i, j;
+        double c;
+    } pt[] = {{0, 3, 0, -32}, {0, 1, 2, 96}, {0, 2, 0, 48}, {0, 1, 1, -96}, {0, 0, 2, -48},
+              {0, 1, 0, 6},   {0, 0, 1, 48}, {0, 0, 0, -11}, {1, 2, 1, 96}, {1, 0, 3, -32},
+              {1, 2, 0, -48}, {1, 1, 1, -96}, {1, 0, 2, 48}, {1, 1, 0, 48}, {1, 0, 1, 6},
+              {1, 0, 0, -11}, {2, 2, 0, 24}, {2, 0, 2, -24}, {2, 1, 0, -24}, {2, 0, 1, 24},
+              {3, 0, 0, 2}},
+      qt[] = {{0, 1, 2, 2}, {0, 1, 0, 2}, {1, 2, 3, -1}, {1, 2, 0, 1}, {1, 0, 3, -3},
+              {1, 0, 0, 3}, {2, 3, 1, 2}, {2, 0, 1, 6}, {3, 2, 2, 1}, {3, 2, 0, 1},
+              {3, 0, 2, 1}, {3, 0, 0, 1}};
+    double hp[64] = {0}, hq[64] = {0};
+    for (size_t k = 0; k < sizeof pt / sizeof *pt; k++)
+        hp[16 * pt[k].q + 4 * pt[k].i + pt[k].j] = pt[k].c;
+    for (size_t k = 0; k < sizeof qt / sizeof *qt; k++)
+        hq[16 * qt[k].q + 4 * qt[k].i + qt[k].j] = qt[k].c;
+    if (!rational_patch(c->na, hp, 0, 1, 0, 1) || !rational_patch(c->nb, hq, -1, 2, 0, 2))
+        return 0;
+    cb_ssi_surface_set_nurbs(&c->A, c->na);
+    cb_ssi_surface_set_nurbs(&c->B, c->nb);
+    return 1;
+}
+
+/* Table 4 of the paper: torus (centre, normal, R, r) and ellipsoid (centre, x axis, y axis,
+ * semi-axes a, b, c along them and their cross product). */
+static int torus_ellipsoid(ssi_case *c, const double tc[3], const double tn[3], double R,
+                           double r, const double ec[3], const double ex[3], const double ey[3],
+                           double a, double b, double cc)
+{
+    static const double tor[4] = {0, 2 * CB_SSI_PI, 0, 2 * CB_SSI_PI};
+    static const double ell[4] = {0, 2 * CB_SSI_PI, -CB_SSI_PI / 2, CB_SSI_PI / 2};
+    cb_frame ft, fe;
+    cb_analytic_surface t, e;
+    cb_error err;
+    double ez[3] = {ex[1] * ey[2] - ex[2] * ey[1], ex[2] * ey[0] - ex[0] * ey[2],
+                    ex[0] * ey[1] - ex[1] * ey[0]};
+    if (cb_frame_make(&ft, tc, tn, NULL, &err) || cb_analytic_torus(&t, &ft, R, r, &err) ||
+        cb_frame_make(&fe, ec, ez, ex, &err) || cb_analytic_ellipsoid(&e, &fe, a, b, cc, &err) ||
+        cb_analytic_to_nurbs(c->occt_b, &e, ell[0], ell[1], ell[2], ell[3], &err))
+        return 0;
+    cb_ssi_surface_set_analytic(&c->A, &t, tor);
+    cb_ssi_surface_set_analytic(&c->B, &e, ell);
+    c->occt_torus_a = 1;
+    return 1;
+}
+
+#define N_CASES 15
+
+/* Builds case k into c (NURBS parts initialised by the caller). */
+static int build_case(ssi_case *c, int k)
+{
+    static const double X[3] = {1, 0, 0}, Y[3] = {0, 1, 0}, Z[3] = {0, 0, 1};
+    poly h = lin(0, 0, 0);
+    switch (k) {
+    case 0:
+        *c = (ssi_case){.name = "one loop", .cls = "control", .components = 1, .truth = "1 loop"};
+        h = circle(4, 2, 2, 1);
+        break;
+    case 1:
+        *c = (ssi_case){.name = "crossing loops", .cls = "Fig.1a", .components = 1,
+                        .truth = "2 loops, 2 nodes"};
+        h = mul(circle(10, 4, 4, 9), circle(10, 6, 5, 9));
+        break;
+    case 2:
+        *c = (ssi_case){.name = "isolated contact", .cls = "Fig.1b", .components = 2, .points = 1,
+                        .truth = "2 branches + 1 point"};
+        h = mul(circle(4, 2, 2, 0), add(mul(lin(4, 0, -2), lin(4, 0, -2)), lin(0, 0, 1), -1));
+        break;
+    case 3:
+        *c = (ssi_case){.name = "boundary curves", .cls = "Fig.1c", .components = 1,
+                        .truth = "2 sides + arc"};
+        h = mul(mul(lin(1, 0, 0), lin(0, 1, 0)), circle(2, 0, 0, 1));
+        break;
+    case 4:
+        *c = (ssi_case){.name = "tangent line, sides", .cls = "Fig.1d", .components = 1,
+                        .truth = "4 sides + tangent"};
+        h = mul(mul(mul(lin(1, 0, 0), lin(-1, 0, 1)), mul(lin(0, 1, 0), lin(0, -1, 1))),
+                mul(lin(2, 0, -1), lin(2, 0, -1)));
+        break;
+    case 5:
+        *c = (ssi_case){.name = "loops touching", .cls = "Fig.1e", .components = 1,
+                        .truth = "2 loops, 1 contact"};
+        h = mul(circle(10, 3, 5, 4), circle(10, 7, 5, 4));
+        break;
+    case 6:
+        *c = (ssi_case){.name = "tangential loop", .cls = "Fig.1f", .components = 1,
+                        .truth = "1 tangent loop"};
+        h = mul(circle(4, 2, 2, 1), circle(4, 2, 2, 1));
+        break;
+    case 7:
+        *c = (ssi_case){.name = "three contacts", .cls = "Fig.1g", .points = 3,
+                        .truth = "3 points"};
+        h = mul(mul(circle(4, 1, 1, 0),
+                    add(mul(lin(2, 0, -1), lin(2, 0, -1)), mul(lin(0, 4, -3), lin(0, 4, -3)), 1)),
+                add(mul(lin(4, 0, -3), lin(4, 0, -3)), mul(lin(0, 2, -1), lin(0, 2, -1)), 1));
+        break;
+    case 8:
+        *c = (ssi_case){.name = "small loop 1e-3", .cls = "small loop", .components = 1,
+                        .truth = "1 loop, r 1e-3"};
+        h = circle(1000, 500, 500, 1);
+        break;
+    case 9:
+        /* Fig. 14 is phi = 0 in Q's box: two arcs and a loop crossing them in two nodes; what
+         * remains inside P's box has not been established independently. */
+        *c = (ssi_case){.name = "example 2", .cls = "App. A", .components = -1,
+                        .truth = "Fig.14, clipped: ?"};
+        break;
+    default:
+        *c = (ssi_case){.name = NULL};
+        break;
+    }
+    cb_nurbs_surface_init(c->na);
+    cb_nurbs_surface_init(c->nb);
+    cb_nurbs_surface_init(c->occt_b);
+    if (k < 9)
+        return graph_pair(c, &h);
+    if (k == 9)
+        return example2(c);
+    /* Table 4, examples 1 to 5. Expected topology from the local shape at the points where the
+     * ellipsoid's axes meet the torus' equators (ex. 1: its tips touch the outer equator from
+     * inside; 3, 5: saddle contacts, nodes; 4: a touch at (3, 0, 0) and a node at (-1, 0, 0)),
+     * confirmed by the sign changes of the ellipsoid's equation on a 1000 x 1000 grid of the
+     * torus' parameters (components; the contacts as rounding-sized specks). */
+    static const struct {
+        double tc[3], R, r, ec[3];
+        int yz; /* ellipsoid axes: 0 x, y; 1 y, z */
+        double a, b, c;
+        int components, points;
+        const char *truth;
+    } t4[5] = {{{0, 0, 0}, 4, 1, {0, 0, 0}, 0, 1, 5, 2, 2, 2, "2 loops + 2 points"},
+               {{1, 0, 0}, 3, 1, {0, 0, 0}, 1, 3, 4, 2, 1, 0, "1 loop"},
+               {{0, 0, 0}, 3, 1, {0, 0, 0}, 1, 4, 3, 2, 1, 0, "1 curve, 4 nodes"},
+               {{0, 0, 0}, 2, 1, {1, 0, 0}, 0, 2, 2, 1, 1, 1, "curve+node, 1 point"},
+               {{0, 0, 0}, 3, 1, {0, 0, 0}, 1, 3, 4, 2, 1, 0, "1 curve, 2 nodes"}};
+    static const char *const names[5] = {"torus-ellipsoid 1", "torus-ellipsoid 2",
+                                         "torus-ellipsoid 3", "torus-ellipsoid 4",
+                                         "torus-ellipsoid 5"};
+    int e = k - 10;
+    c->name = names[e];
+    c->cls = "Table 4";
+    c->components = t4[e].components;
+    c->points = t4[e].points;
+    c->truth = t4[e].truth;
+    return torus_ellipsoid(c, t4[e].tc, Z, t4[e].R, t4[e].r, t4[e].ec, t4[e].yz ? Y : X,
+                           t4[e].yz ? Z : Y, t4[e].a, t4[e].b, t4[e].c);
+}
+
+static void case_clear(ssi_case *c)
+{
+    cb_nurbs_surface_clear(c->na);
+    cb_nurbs_surface_clear(c->nb);
+    cb_nurbs_surface_clear(c->occt_b);
+}
+
+/* ---------------------------------------------------------------- topology figures --------- */
+
+typedef struct {
+    int n;
+    double *p; /* 3 n */
+} polyline;
+
+typedef struct {
+    int n_curves, n_points;
+    polyline *curve;
+    double *point; /* 3 n_points */
+} curve_set;
+
+static void curve_set_clear(curve_set *s)
+{
+    for (int k = 0; k < s->n_curves; k++)
+        free(s->curve[k].p);
+    free(s->curve);
+    free(s->point);
+    memset(s, 0, sizeof *s);
+}
+
+static double dot3(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Distance between the segments [p0, p1] and [q0, q1] (closest points, clamped). */
+static double seg_seg(const double *p0, const double *p1, const double *q0, const double *q1)
+{
+    double d1[3], d2[3], r[3];
+    for (int i = 0; i < 3; i++) {
+        d1[i] = p1[i] - p0[i];
+        d2[i] = q1[i] - q0[i];
+        r[i] = p0[i] - q0[i];
+    }
+    double a = dot3(d1, d1), e = dot3(d2, d2), f = dot3(d2, r), s = 0, t = 0;
+    if (a <= 0 && e <= 0) {
+        s = t = 0;
+    } else if (a <= 0) {
+        t = fmin(fmax(f / e, 0), 1);
+    } else {
+        double c = dot3(d1, r);
+        if (e <= 0) {
+            s = fmin(fmax(-c / a, 0), 1);
+        } else {
+            double b = dot3(d1, d2), den = a * e - b * b;
+            s = den > 0 ? fmin(fmax((b * f - c * e) / den, 0), 1) : 0;
+            t = (b * s + f) / e;
+            if (t < 0) {
+                t = 0;
+                s = fmin(fmax(-c / a, 0), 1);
+            } else if (t > 1) {
+                t = 1;
+                s = fmin(fmax((b - c) / a, 0), 1);
+            }
+        }
+    }
+    double d = 0;
+    for (int i = 0; i < 3; i++) {
+        double x = p0[i] + s * d1[i] - q0[i] - t * d2[i];
+        d += x * x;
+    }
+    return sqrt(d);
+}
+
+static double point_curve(const double *X, const polyline *c)
+{
+    double best = HUGE_VAL;
+    for (int i = 0; i + 1 < c->n || (i == 0 && c->n == 1); i++)
+        best = fmin(best, seg_seg(X, X, c->p + 3 * i, c->p + 3 * (c->n > 1 ? i + 1 : i)));
+    return best;
+}
+
+/* Distance between two polylines, or some value <= eps once one below it is found. */
+static double curve_curve(const polyline *a, const polyline *b, double eps)
+{
+    double best = HUGE_VAL;
+    for (int i = 0; i + 1 < a->n && best > eps; i++)
+        for (int j = 0; j + 1 < b->n && best > eps; j++)
+            best = fmin(best, seg_seg(a->p + 3 * i, a->p + 3 * i + 3, b->p + 3 * j,
+                                      b->p + 3 * j + 3));
+    return best;
+}
+
+static int find(int *parent, int i)
+{
+    while (parent[i] != i)
+        i = parent[i] = parent[parent[i]];
+    return i;
+}
+
+/* Curve components (curves within eps of each other joined) and isolated points (farther than
+ * eps from every curve and from each other). */
+static void topology(int *components, int *points, const curve_set *s, double eps)
+{
+    int n = s->n_curves, *parent = malloc((size_t)(n + 1) * sizeof(int));
+    for (int i = 0; i < n; i++)
+        parent[i] = i;
+    for (int i = 0; i < n; i++)
+        for (int j = i + 1; j < n; j++)
+            if (find(parent, i) != find(parent, j) &&
+                curve_curve(s->curve + i, s->curve + j, eps) <= eps)
+                parent[find(parent, i)] = find(parent, j);
+    *components = 0;
+    for (int i = 0; i < n; i++)
+        *components += find(parent, i) == i;
+    free(parent);
+    *points = 0;
+    for (int k = 0; k < s->n_points; k++) {
+        const double *X = s->point + 3 * k;
+        int near = 0;
+        for (int i = 0; i < n && !near; i++)
+            near = point_curve(X, s->curve + i) <= eps;
+        for (int j = 0; j < k && !near; j++) {
+            const double *Y = s->point + 3 * j;
+            near = sqrt((X[0] - Y[0]) * (X[0] - Y[0]) + (X[1] - Y[1]) * (X[1] - Y[1]) +
+                        (X[2] - Y[2]) * (X[2] - Y[2])) <= eps;
+        }
+        *points += !near;
+    }
+}
+
+/* Largest distance of a's curve points from b's curves (0 when a has none, infinite when b
+ * has none but a has some). */
+static double directed(const curve_set *a, const curve_set *b)
+{
+    double worst = 0;
+    for (int i = 0; i < a->n_curves; i++)
+        for (int k = 0; k < a->curve[i].n; k++) {
+            double best = HUGE_VAL;
+            for (int j = 0; j < b->n_curves; j++)
+                best = fmin(best, point_curve(a->curve[i].p + 3 * k, b->curve + j));
+            worst = fmax(worst, best);
+        }
+    return worst;
+}
+
+/* ---------------------------------------------------------------- the two sides ------------ */
+
+typedef struct {
+    int done, failed; /* failed: patch pairs not certified */
+    int curves, points, components, isolated;
+    int loose_components, loose_isolated; /* joined within 1e-3 of the model size */
+    double t[2][3]; /* median, min, max; Colibri on 1 and 2 threads, OCCT in t[0] */
+    char msg[120];
+    curve_set set;
+} side;
+
+static void stats3(double out[3], double *t, int n)
+{
+    qsort(t, (size_t)n, sizeof *t, cmp);
+    out[0] = t[n / 2];
+    out[1] = t[0];
+    out[2] = t[n - 1];
+}
+
+static void run_colibri(side *o, const ssi_case *c, int runs, double *tol)
+{
+    memset(o, 0, sizeof *o);
+    for (int th = 0; th < 2; th++) {
+        double t[MAX_RUNS];
+        for (int r = 0; r < runs; r++) {
+            cb_ssi_opts opts;
+            cb_ssi_opts_default(&opts);
+            opts.threads = th + 1;
+            cb_ssi_result_t res;
+            cb_ssi_result_init(res);
+            cb_error err;
+            cb_error_clear(&err);
+            double t0 = now();
+            cb_status st = cb_ssi_surfaces(res, &c->A, &c->B, -1, -1, &opts, &err);
+            t[r] = now() - t0;
+            if (st) {
+                snprintf(o->msg, sizeof o->msg, "%.110s", err.msg);
+            } else if (th == 1 && r == runs - 1) {
+                o->done = 1;
+                o->failed = (int)res->n_failed;
+                if (res->n_failed)
+                    snprintf(o->msg, sizeof o->msg, "%.110s", res->failed[0].msg);
+                o->curves = (int)res->n_curves;
+                o->points = (int)res->n_points;
+                *tol = res->tol;
+                curve_set *s = &o->set;
+                s->n_curves = o->curves;
+                s->curve = calloc((size_t)o->curves + 1, sizeof(polyline));
+                for (int i = 0; i < o->curves; i++) {
+                    const cb_ssi_curve *cv = res->curve + i;
+                    s->curve[i].n = (int)cv->n;
+                    s->curve[i].p = malloc((size_t)cv->n * 3 * sizeof(double));
+                    for (slong j = 0; j < cv->n; j++)
+                        memcpy(s->curve[i].p + 3 * j, cv->pt[j].xyz, 3 * sizeof(double));
+                }
+                s->n_points = o->points;
+                s->point = malloc(((size_t)o->points + 1) * 3 * sizeof(double));
+                for (int i = 0; i < o->points; i++)
+                    memcpy(s->point + 3 * i, res->point[i].p.xyz, 3 * sizeof(double));
+            }
+            cb_ssi_result_clear(res);
+        }
+        stats3(o->t[th], t, runs);
+    }
+}
+
+static void write_nurbs(FILE *f, const cb_nurbs_surface_struct *s)
+{
+    fprintf(f, "nurbs %d %d %d %d\n", s->deg_u, s->deg_v, s->n_u, s->n_v);
+    for (int i = 0; i < s->n_u + s->deg_u + 1; i++)
+        fprintf(f, "%.17g ", s->knots_u[i]);
+    fputs("\n", f);
+    for (int i = 0; i < s->n_v + s->deg_v + 1; i++)
+        fprintf(f, "%.17g ", s->knots_v[i]);
+    fputs("\n", f);
+    for (long k = 0; k < (long)s->n_u * s->n_v; k++) {
+        const double *h = s->cw + 4 * k;
+        fprintf(f, "%.17g %.17g %.17g %.17g\n", h[0] / h[3], h[1] / h[3], h[2] / h[3], h[3]);
+    }
+}
+
+/* The comparator's input: the two surfaces (see occt_ssi.cpp for the format). */
+static int write_pair(const char *path, const ssi_case *c)
+{
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return 0;
+    if (c->occt_torus_a) {
+        const cb_analytic_surface *t = &c->A.analytic;
+        const cb_frame *fr = &t->frame;
+        fprintf(f, "torus %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
+                fr->o[0], fr->o[1], fr->o[2], fr->z[0], fr->z[1], fr->z[2], fr->x[0], fr->x[1],
+                fr->x[2], t->r1, t->r2);
+        write_nurbs(f, c->occt_b);
+    } else {
+        write_nurbs(f, c->na);
+        write_nurbs(f, c->nb);
+    }
+    return fclose(f) == 0;
+}
+
+static void run_occt(side *o, const char *occt, const char *path, int runs, double tol)
+{
+    memset(o, 0, sizeof *o);
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "'%s' %d %.17g '%s'", occt, runs, tol, path);
+    FILE *p = popen(cmd, "r");
+    if (!p)
+        return;
+    double ms[3];
+    int done;
+    if (fscanf(p, "%lf %lf %lf %d %d %d", ms, ms + 1, ms + 2, &done, &o->curves, &o->points) ==
+            6 &&
+        o->curves >= 0 && o->points >= 0) {
+        o->done = done;
+        for (int q = 0; q < 3; q++)
+            o->t[0][q] = 1e-3 * ms[q];
+        curve_set *s = &o->set;
+        s->curve = calloc((size_t)o->curves + 1, sizeof(polyline));
+        s->point = malloc(((size_t)o->points + 1) * 3 * sizeof(double));
+        int ok = 1;
+        for (int i = 0; i < o->curves && ok; i++) {
+            int n;
+            ok = fscanf(p, " L %d", &n) == 1 && n >= 0;
+            s->curve[i].p = malloc(((size_t)n + 1) * 3 * sizeof(double));
+            s->curve[i].n = n;
+            s->n_curves = i + 1;
+            for (int j = 0; j < n && ok; j++)
+                ok = fscanf(p, "%lf %lf %lf", s->curve[i].p + 3 * j, s->curve[i].p + 3 * j + 1,
+                            s->curve[i].p + 3 * j + 2) == 3;
+        }
+        for (int i = 0; i < o->points && ok; i++) {
+            ok = fscanf(p, " P %lf %lf %lf", s->point + 3 * i, s->point + 3 * i + 1,
+                        s->point + 3 * i + 2) == 3;
+            s->n_points = i + 1;
+        }
+        if (!ok) {
+            o->done = 0;
+            snprintf(o->msg, sizeof o->msg, "unreadable comparator output");
+        } else if (!done) {
+            snprintf(o->msg, sizeof o->msg, "GeomInt_IntSS: not done");
+        }
+    } else {
+        snprintf(o->msg, sizeof o->msg, "the comparator failed");
+    }
+    pclose(p);
+}
+
+static const char *verdict(const side *o, const ssi_case *c)
+{
+    if (!o->done)
+        return "fails";
+    if (o->failed)
+        return "refused";
+    if (c->components < 0)
+        return "-";
+    if (o->components == c->components && o->isolated == c->points)
+        return "ok";
+    return o->loose_components == c->components && o->loose_isolated == c->points ? "gaps"
+                                                                                  : "WRONG";
+}
+
+/* ---------------------------------------------------------------- main --------------------- */
+
+/* A number, or null for what JSON cannot hold (no curves on one side: infinite distance). */
+static void json_num(FILE *f, double x)
+{
+    if (isfinite(x))
+        fprintf(f, "%.3g", x);
+    else
+        fputs("null", f);
+}
+
+static void json_side(FILE *f, const char *key, const side *o, const ssi_case *c, int occt)
+{
+    fprintf(f, "\"%s\": {\"verdict\": \"%s\", \"curves\": %d, \"points\": %d, \"components\": %d, "
+               "\"isolated\": %d",
+            key, verdict(o, c), o->curves, o->points, o->components, o->isolated);
+    if (!occt)
+        fprintf(f, ", \"not_certified\": %d", o->failed);
+    for (int th = 0; th < (occt ? 1 : 2); th++)
+        fprintf(f, ", \"time_s%s\": {\"median\": %.6f, \"min\": %.6f, \"max\": %.6f}",
+                occt ? "" : (th ? "_threads_2" : "_threads_1"), o->t[th][0], o->t[th][1],
+                o->t[th][2]);
+    if (o->msg[0]) {
+        fputs(", \"message\": ", f);
+        cb_json_string(f, o->msg);
+    }
+    fputs("}", f);
+}
+
+int main(int argc, char **argv)
+{
+    int runs = argc > 1 ? atoi(argv[1]) : 3;
+    if (runs < 1 || runs > MAX_RUNS)
+        runs = 3;
+    const char *occt = argc > 2 && strcmp(argv[2], "-") ? argv[2] : NULL;
+    if (occt && access(occt, X_OK))
+        occt = NULL;
+    FILE *json = NULL;
+    if (argc > 3 && !(json = fopen(argv[3], "w"))) {
+        fprintf(stderr, "bench_ssi_cases: cannot write %s\n", argv[3]);
+        return 1;
+    }
+    char dir[] = "/tmp/colibri_ssi_XXXXXX", path[64];
+    if (occt && !mkdtemp(dir)) {
+        fprintf(stderr, "bench_ssi_cases: cannot make a temporary directory\n");
+        return 1;
+    }
+    snprintf(path, sizeof path, "%s/pair.txt", dir);
+    printf("SSI topology cases, %d run%s each: curve components + isolated points against the "
+           "true ones; time in seconds, median [min max]\n",
+           runs, runs == 1 ? "" : "s");
+    printf("%-19s %-10s %-22s | %-5s %-7s %-21s %-21s |", "case", "class", "true topology",
+           "C c+p", "verdict", "Colibri 1 thread", "2 threads");
+    if (occt)
+        printf(" %-5s %-7s %-21s %6s %8s %8s", "O c+p", "verdict", "OCCT", "C2/O", "d(C,O)",
+               "d(O,C)");
+    printf("\n");
+    if (json)
+        fprintf(json, "{\"runs\": %d, \"cases\": [", runs);
+    int status = 0;
+    for (int k = 0; k < N_CASES; k++) {
+        ssi_case c;
+        if (!build_case(&c, k)) {
+            printf("case %d could not be built\n", k);
+            case_clear(&c);
+            status = 1;
+            continue;
+        }
+        side co, oc;
+        double tol = 0;
+        run_colibri(&co, &c, runs, &tol);
+        /* Model size: tol is 1e-6 of it. */
+        double eps = 100 * tol, size = tol / 1e-6, dco = NAN, doc = NAN;
+        topology(&co.components, &co.isolated, &co.set, eps);
+        topology(&co.loose_components, &co.loose_isolated, &co.set, 1e-3 * size);
+        int have_occt = occt && write_pair(path, &c);
+        if (have_occt) {
+            run_occt(&oc, occt, path, runs, tol);
+            topology(&oc.components, &oc.isolated, &oc.set, eps);
+            topology(&oc.loose_components, &oc.loose_isolated, &oc.set, 1e-3 * size);
+        }
+        char cc[16], oo[16];
+        snprintf(cc, sizeof cc, "%d+%d", co.components, co.isolated);
+        printf("%-19s %-10s %-22s | %-5s %-7s %6.3f [%5.3f %5.3f] %6.3f [%5.3f %5.3f] |", c.name,
+               c.cls, c.truth, co.done ? cc : "-", verdict(&co, &c), co.t[0][0], co.t[0][1],
+               co.t[0][2], co.t[1][0], co.t[1][1], co.t[1][2]);
+        if (have_occt) {
+            snprintf(oo, sizeof oo, "%d+%d", oc.components, oc.isolated);
+            dco = directed(&co.set, &oc.set) / size;
+            doc = directed(&oc.set, &co.set) / size;
+            printf(" %-5s %-7s %6.3f [%5.3f %5.3f] %6.2f %8.1e %8.1e", oc.done ? oo : "-",
+                   verdict(&oc, &c), oc.t[0][0], oc.t[0][1], oc.t[0][2],
+                   oc.t[0][0] > 0 ? co.t[1][0] / oc.t[0][0] : NAN, dco, doc);
+        }
+        printf("\n");
+        if (co.msg[0])
+            printf("    Colibri: %s (%d pairs not certified)\n", co.msg, co.failed);
+        if (have_occt && oc.msg[0])
+            printf("    OCCT: %s\n", oc.msg);
+        fflush(stdout);
+        if (json) {
+            fprintf(json, "%s\n {\"case\": ", k ? "," : "");
+            cb_json_string(json, c.name);
+            fputs(", \"class\": ", json);
+            cb_json_string(json, c.cls);
+            fprintf(json, ", \"true\": {\"components\": %d, \"isolated\": %d, \"text\": ",
+                    c.components, c.points);
+            cb_json_string(json, c.truth);
+            fprintf(json, "}, \"tol\": %.3g, ", tol);
+            json_side(json, "colibri", &co, &c, 0);
+            if (have_occt) {
+                fputs(", ", json);
+                json_side(json, "occt", &oc, &c, 1);
+                fputs(", \"d_colibri_occt\": ", json);
+                json_num(json, dco);
+                fputs(", \"d_occt_colibri\": ", json);
+                json_num(json, doc);
+            }
+            fputs("}", json);
+        }
+        curve_set_clear(&co.set);
+        if (have_occt)
+            curve_set_clear(&oc.set);
+        case_clear(&c);
+    }
+    if (json) {
+        fputs("\n]}\n", json);
+        fclose(json);
+    }
+    if (occt) {
+        remove(path);
+        rmdir(dir);
+    }
+    return status;
+}
