@@ -8,13 +8,16 @@
  * constrained edges of a constrained Delaunay triangulation (exact orientation predicates) in
  * a per-face scaled metric (u and v weighted by the mean |S_u| and |S_v| on the boundary, so
  * that parameter lengths approximate 3D lengths), and triangles are split at their centroid
- * until the surface lies within the chordal tolerance of every triangle (at its centroid and
- * the midpoints of its inner sides) and the surface normals at its corners and centroid lie
- * within the angular tolerance of its normal. A triangle side joining two samples of one edge
- * that are not neighbours along it, or two vertices that an edge of other faces joins, is
- * split too, whatever the tolerances: another face could have the same segment, which would
- * then border four triangles (two faces hugging a curved edge from its concave side; three
- * faces around a short edge of two). Boundary samples are never moved or
+ * until the surface lies within the chordal tolerance of every triangle (the surface points at
+ * the (u, v) centroid and at the (u, v) midpoints of its inner sides, measured to the triangle
+ * and to those sides: their distance, not their drift along the mesh where the
+ * parameterisation runs unevenly) and the surface normals near its corners (sampled a little
+ * inside it, so that a corner on a C0 knot line sees the span the triangle covers) and at its
+ * centroid lie within the angular tolerance of its normal. A triangle side joining two samples
+ * of one edge that are not neighbours along it, or two vertices that an edge of other faces
+ * joins, is split at its midpoint, whatever the tolerances: another face could have the same
+ * segment, which would then border four triangles (two faces hugging a curved edge from its
+ * concave side; three faces around a short edge of two). Boundary samples are never moved or
  * added to, so refinement cannot break watertightness.
  *
  * Special places. A seam edge (used twice by one face) has its samples on both sides of the
@@ -28,8 +31,9 @@
  *
  * Refinement stops short of the tolerances in two places, where no insertion could help: a
  * flat triangle on a boundary side (its error is the boundary samples'), and, for the normal
- * test only, triangles shorter than twice the chordal tolerance (a C0 crease of a B-spline
- * would be chased forever).
+ * test only, triangles narrower (smallest height) than twice the chordal tolerance (a C0
+ * crease of a B-spline would be chased forever, and a sliver along a curved line of the
+ * surface has that line's plane for its normal, whatever the surface's).
  *
  * Limits. A loop that wraps around a periodic surface without a seam edge (a cylinder band
  * bounded by two circles only) and a face without loops (a whole sphere or torus) are refused
@@ -39,12 +43,22 @@
  * cannot see the faces' surfaces, so compute pcurves first (cb_topo_compute_pcurves: the
  * hummingbird needs it; STEP import does it).
  *
- * Known defect. At tolerances well below the default, some faces get fans of needle
- * triangles (area / longest side^2 down to 1e-7) around a boundary vertex, which CGAL reports
- * as self-intersections (measured: linkrods.step at 0.3x the default chord, the hummingbird at
- * 0.5x); the default and coarser tolerances pass on every shipped model. Probable cause: the
- * metric is one scaling per face, so where a parameterisation is far from it, triangles well
- * shaped in (u, v) are needles in 3D. */
+ * Needles, and how they were cured. Refinement at the centroid cannot shrink the triangles at a
+ * corner or against a boundary segment; where a test fails there whatever is inserted, each
+ * pass adds a point a third of the way closer, and the triangles left form a fan of needles
+ * (area / longest side^2 down to 1e-12) that CGAL may find crossing (linkrods.step at 0.3x
+ * and 0.1x the default chord, the hummingbird at 0.5x and 0.3x; trj5_k1-al-214.stp had fans
+ * at every tolerance, short of crossing). Three such tests were found and are corrected
+ * above: the chordal error was the distance to
+ * the side's or triangle's linearly mapped point, so uneven speed along a long boundary segment
+ * failed every inner side beside it; corner normals were taken at the corner, where a C0 knot
+ * line meeting the boundary gives the span beyond it (90 degrees off on trj5); and the normal
+ * test exempted short triangles only, not the slivers it had made. Since then the shipped
+ * models mesh closed, manifold and free of self-intersections from 3x down to 0.05x the
+ * default chord, no triangle below 2e-4 of that shape ratio (those join boundary samples of
+ * narrow faces, which refinement may not move). The metric is still one scaling per face: a
+ * test that could again not be met near a boundary vertex would again make a fan, bounded by
+ * the pass limit. */
 #ifndef CB_TESS_H
 #define CB_TESS_H
 

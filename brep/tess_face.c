@@ -11,6 +11,10 @@
  * rather than exhausting memory on a tolerance far below the model's precision. */
 #define FACE_MAX_POINTS 4000000
 #define FACE_MAX_PASSES 80
+/* The normal test samples the surface at each corner moved this fraction of the way towards
+ * each of the other two corners: inside the triangle by far more than rounding, near enough to
+ * the corner to stand for it on a smooth surface. */
+#define CORNER_INSET 1e-3
 
 void cb_tess_face_mesh_init(cb_tess_face_mesh *fm)
 {
@@ -213,11 +217,10 @@ typedef struct {
     double sign;     /* +1: face normal S_u x S_v */
     double cos_tol;  /* cos(angle_tol) */
     double min_side; /* triangles smaller than this are never split */
-    double min_normal_side; /* nor split for their normals when smaller than this */
+    double min_normal_width; /* nor split for their normals when narrower than this */
     cb_tess_cdt d;
     int *gid;      /* per triangulation point: shared sample, -1 own point, -2 enclosing */
     double *xyz;   /* per point, 3D */
-    double *nrm;   /* per point, unit face normal or 0 where the surface is singular */
     int cap;
 } face_work;
 
@@ -226,7 +229,6 @@ static void work_clear(face_work *w)
     cb_tess_cdt_clear(&w->d);
     free(w->gid);
     free(w->xyz);
-    free(w->nrm);
 }
 
 /* Unit face normal from surface derivatives; 0 where S_u x S_v vanishes (a pole). */
@@ -255,35 +257,76 @@ static cb_status point_data(face_work *w, int k, int gid, const double *xyz, cb_
         double *nx = realloc(w->xyz, (size_t)c * 3 * sizeof(double));
         if (nx)
             w->xyz = nx;
-        double *nn = realloc(w->nrm, (size_t)c * 3 * sizeof(double));
-        if (nn)
-            w->nrm = nn;
-        if (!ng || !nx || !nn)
+        if (!ng || !nx)
             return cb_error_set(err, CB_ERR_NOMEM, "out of memory");
         w->cap = c;
     }
     w->gid[k] = gid;
     if (gid == -2) {
         memset(w->xyz + 3 * k, 0, sizeof(double[3]));
-        memset(w->nrm + 3 * k, 0, sizeof(double[3]));
         return CB_OK;
     }
-    double uv[2] = {w->d.p[2 * k] / w->su, w->d.p[2 * k + 1] / w->sv}, der[6][3];
-    cb_topo_inverter_eval_derivs(der, w->inv, uv[0], uv[1]);
-    memcpy(w->xyz + 3 * k, xyz ? xyz : der[0], sizeof(double[3]));
-    face_normal(w->nrm + 3 * k, der, w->sign);
+    if (xyz)
+        memcpy(w->xyz + 3 * k, xyz, sizeof(double[3]));
+    else
+        cb_topo_inverter_eval(w->xyz + 3 * k, w->inv, w->d.p[2 * k] / w->su,
+                              w->d.p[2 * k + 1] / w->sv);
     return CB_OK;
 }
 
-static double dist_mid(const face_work *w, const double x[2], const double *p, const double *q,
-                       const double *r)
+/* Distance from x to the segment p q. */
+static double segment_distance(const double x[3], const double p[3], const double q[3])
 {
-    double s[3], m[3];
-    cb_topo_inverter_eval(s, w->inv, x[0] / w->su, x[1] / w->sv);
-    int n = r ? 3 : 2;
+    double d[3], w[3], c[3];
+    for (int i = 0; i < 3; i++) {
+        d[i] = q[i] - p[i];
+        w[i] = x[i] - p[i];
+    }
+    double dd = cb_vec3_dot(d, d), s = dd > 0 ? cb_vec3_dot(w, d) / dd : 0;
+    s = s < 0 ? 0 : s > 1 ? 1 : s;
     for (int i = 0; i < 3; i++)
-        m[i] = (p[i] + q[i] + (r ? r[i] : 0)) / n;
-    return cb_vec3_dist(s, m);
+        c[i] = p[i] + s * d[i];
+    return cb_vec3_dist(x, c);
+}
+
+/* Distance from x to the triangle p q r: to its plane when x projects inside it, else to the
+ * nearest side. */
+static double triangle_distance(const double x[3], const double p[3], const double q[3],
+                                const double r[3])
+{
+    double e1[3], e2[3], w[3], n[3];
+    for (int i = 0; i < 3; i++) {
+        e1[i] = q[i] - p[i];
+        e2[i] = r[i] - p[i];
+        w[i] = x[i] - p[i];
+    }
+    cb_vec3_cross(n, e1, e2);
+    double nn = cb_vec3_dot(n, n);
+    if (nn > 0) {
+        /* Barycentric coordinates of the projection of x onto the plane. */
+        double t1[3], t2[3];
+        cb_vec3_cross(t1, w, e2);
+        cb_vec3_cross(t2, e1, w);
+        double b1 = cb_vec3_dot(t1, n) / nn, b2 = cb_vec3_dot(t2, n) / nn;
+        if (b1 >= 0 && b2 >= 0 && b1 + b2 <= 1)
+            return fabs(cb_vec3_dot(w, n)) / sqrt(nn);
+    }
+    return fmin(segment_distance(x, p, q),
+                fmin(segment_distance(x, q, r), segment_distance(x, r, p)));
+}
+
+/* The chordal error of a side p q (r NULL) or of a triangle p q r at the surface point of the
+ * scaled (u, v) point x: its distance to the side or triangle, not to the point of it that x
+ * maps to linearly. Where the parameterisation runs unevenly along a side, its (u, v) midpoint
+ * lands off its 3D midpoint, along the side: no distance from the mesh, yet, beside a boundary
+ * segment (which refinement may not split), no insertion could remove it, and centroids chased
+ * it into fans of needles against the segment. */
+static double chord_error(const face_work *w, const double x[2], const double *p,
+                          const double *q, const double *r)
+{
+    double s[3];
+    cb_topo_inverter_eval(s, w->inv, x[0] / w->su, x[1] / w->sv);
+    return r ? triangle_distance(s, p, q, r) : segment_distance(s, p, q);
 }
 
 /* Edge of interior sample g of es and its index among the edge's samples (the interior samples
@@ -339,23 +382,25 @@ static int same_edge_chord(const face_work *w, int a, int b)
     return 0;
 }
 
-/* Whether triangle t is too far from the surface, or too steep against it, or joins two
- * samples of one edge across the face (same_edge_chord). */
-static int needs_split(const face_work *w, int t)
+/* Where triangle t must be split, if at all: -1 nowhere; 0 .. 2 at the (u, v) midpoint of its
+ * side opposite v[k], a side joining two samples of one edge across the face (same_edge_chord),
+ * which a centroid might leave in place; 3 at its centroid, when it is too far from the surface
+ * or too steep against it. */
+static int split_side(const face_work *w, int t)
 {
     const cb_tess_tri *T = &w->d.t[t];
     const double *P[3], *X[3];
     for (int k = 0; k < 3; k++) {
         if (w->gid[T->v[k]] < -1)
-            return 0;
+            return -1;
         P[k] = w->xyz + 3 * T->v[k];
         X[k] = w->d.p + 2 * T->v[k];
     }
     if (w->gid[T->v[0]] >= 0 && (w->gid[T->v[0]] == w->gid[T->v[1]] ||
                                  w->gid[T->v[0]] == w->gid[T->v[2]]))
-        return 0;
+        return -1;
     if (w->gid[T->v[1]] >= 0 && w->gid[T->v[1]] == w->gid[T->v[2]])
-        return 0;
+        return -1;
     double e1[3], e2[3], N[3], longest = 0;
     for (int k = 0; k < 3; k++) {
         longest = fmax(longest, cb_vec3_dist(P[k], P[(k + 1) % 3]));
@@ -363,11 +408,11 @@ static int needs_split(const face_work *w, int t)
         e2[k] = P[2][k] - P[0][k];
     }
     if (longest < w->min_side)
-        return 0;
+        return -1;
     for (int k = 0; k < 3; k++) {
         int a = w->gid[T->v[(k + 1) % 3]], c = w->gid[T->v[(k + 2) % 3]];
         if (!T->c[k] && a >= 0 && c >= 0 && same_edge_chord(w, a, c))
-            return 1;
+            return k;
     }
     /* A flat triangle on a boundary side: its error comes from the boundary samples, which
      * refinement may not move; splitting it would only crowd points against the side. */
@@ -379,38 +424,52 @@ static int needs_split(const face_work *w, int t)
         const double *A = X[(k + 1) % 3], *B = X[(k + 2) % 3];
         double side2 = (B[0] - A[0]) * (B[0] - A[0]) + (B[1] - A[1]) * (B[1] - A[1]);
         if (area2 < 0.125 * side2)
-            return 0;
+            return -1;
     }
     if (w->o->max_edge > 0 && longest > w->o->max_edge)
-        return 1;
+        return 3;
     /* The triangle's normal as emitted: flipped with the face. */
     cb_vec3_cross(N, e1, e2);
-    if (!(cb_vec3_normalize(N) > 0))
-        return 1;
+    double area2_3d = cb_vec3_normalize(N);
+    if (!(area2_3d > 0))
+        return 3;
     for (int k = 0; k < 3; k++)
         N[k] *= w->sign;
     double c[2] = {(X[0][0] + X[1][0] + X[2][0]) / 3, (X[0][1] + X[1][1] + X[2][1]) / 3};
-    if (dist_mid(w, c, P[0], P[1], P[2]) > w->o->chord_tol)
-        return 1;
+    if (chord_error(w, c, P[0], P[1], P[2]) > w->o->chord_tol)
+        return 3;
     for (int k = 0; k < 3; k++) {
         if (T->c[k])
             continue;
         int i = (k + 1) % 3, j = (k + 2) % 3;
         double m[2] = {0.5 * (X[i][0] + X[j][0]), 0.5 * (X[i][1] + X[j][1])};
-        if (dist_mid(w, m, P[i], P[j], NULL) > w->o->chord_tol)
-            return 1;
+        if (chord_error(w, m, P[i], P[j], NULL) > w->o->chord_tol)
+            return 3;
     }
-    if (longest < w->min_normal_side)
-        return 0;
-    for (int k = 0; k < 3; k++) {
-        const double *n = w->nrm + 3 * T->v[k];
+    /* Its normal is not tested when it is narrower (its smallest height) than min_normal_width:
+     * an error across so little is invisible, and the normal of a sliver along a curved line of
+     * the surface is that line's osculating plane, not the surface's: splitting it only makes
+     * thinner slivers that fail again (seen beside a seam near a cone-like pole). */
+    if (area2_3d < w->min_normal_width * longest)
+        return -1;
+    /* The surface normals at the corners are taken a little inside the triangle
+     * (CORNER_INSET), as the triangle sees them: at a corner on a C0 knot line of a B-spline,
+     * the derivatives at the corner itself may be those of the span beyond the line, whose
+     * normal no triangle on this side can follow however small (trj5: a boundary vertex whose
+     * span-beyond normal is 90 degrees off chased triangles into needles against the
+     * boundary). */
+    for (int k = 0; k < 4; k++) {
+        double x[2], der[6][3], n[3];
+        for (int i = 0; i < 2; i++)
+            x[i] = k == 3 ? c[i]
+                          : X[k][i] + CORNER_INSET * (X[(k + 1) % 3][i] + X[(k + 2) % 3][i] -
+                                                      2 * X[k][i]);
+        cb_topo_inverter_eval_derivs(der, w->inv, x[0] / w->su, x[1] / w->sv);
+        face_normal(n, der, w->sign);
         if ((n[0] != 0 || n[1] != 0 || n[2] != 0) && cb_vec3_dot(n, N) < w->cos_tol)
-            return 1;
+            return 3;
     }
-    double der[6][3], n[3];
-    cb_topo_inverter_eval_derivs(der, w->inv, c[0] / w->su, c[1] / w->sv);
-    face_normal(n, der, w->sign);
-    return (n[0] != 0 || n[1] != 0 || n[2] != 0) && cb_vec3_dot(n, N) < w->cos_tol;
+    return -1;
 }
 
 static cb_status refine(face_work *w, cb_context *ctx, cb_error *err)
@@ -425,7 +484,8 @@ static cb_status refine(face_work *w, cb_context *ctx, cb_error *err)
         }
         int n = 0;
         for (int t = 0; t < w->d.nt; t++) {
-            if (!w->d.t[t].in || !needs_split(w, t))
+            int side = w->d.t[t].in ? split_side(w, t) : -1;
+            if (side < 0)
                 continue;
             if (n == cap) {
                 cap = cap ? 2 * cap : 256;
@@ -438,9 +498,12 @@ static cb_status refine(face_work *w, cb_context *ctx, cb_error *err)
             }
             const cb_tess_tri *T = &w->d.t[t];
             for (int i = 0; i < 2; i++)
-                cand[2 * n + i] = (w->d.p[2 * T->v[0] + i] + w->d.p[2 * T->v[1] + i] +
-                                   w->d.p[2 * T->v[2] + i]) /
-                                  3;
+                cand[2 * n + i] =
+                    side == 3 ? (w->d.p[2 * T->v[0] + i] + w->d.p[2 * T->v[1] + i] +
+                                 w->d.p[2 * T->v[2] + i]) /
+                                    3
+                              : 0.5 * (w->d.p[2 * T->v[(side + 1) % 3] + i] +
+                                       w->d.p[2 * T->v[(side + 2) % 3] + i]);
             n++;
         }
         if (st || n == 0)
@@ -580,7 +643,7 @@ static cb_status face_run(cb_tess_face_mesh *fm, const cb_topo_body *b, int face
         /* Below the chordal tolerance a normal error is invisible, and chasing one across a
          * crease of the surface (a C0 knot line) would never end. */
         w.min_side = 0.1 * o->chord_tol;
-        w.min_normal_side = 2 * o->chord_tol;
+        w.min_normal_width = 2 * o->chord_tol;
         st = triangulate(&w, &L, err);
     }
     if (!st)
