@@ -382,6 +382,15 @@ static int same_edge_chord(const face_work *w, int a, int b)
     return 0;
 }
 
+/* Whether the (u, v) segment a b (scaled) maps to the single point p: its middle within the
+ * chordal tolerance of p. */
+static int collapsed(const face_work *w, const double a[2], const double b[2], const double p[3])
+{
+    double m[3];
+    cb_topo_inverter_eval(m, w->inv, 0.5 * (a[0] + b[0]) / w->su, 0.5 * (a[1] + b[1]) / w->sv);
+    return cb_vec3_dist(m, p) <= w->o->chord_tol;
+}
+
 /* Where triangle t must be split, if at all: -1 nowhere; 0 .. 2 at the (u, v) midpoint of its
  * side opposite v[k], a side joining two samples of one edge across the face (same_edge_chord),
  * which a centroid might leave in place; 3 at its centroid, when it is too far from the surface
@@ -396,11 +405,15 @@ static int split_side(const face_work *w, int t)
         P[k] = w->xyz + 3 * T->v[k];
         X[k] = w->d.p + 2 * T->v[k];
     }
-    if (w->gid[T->v[0]] >= 0 && (w->gid[T->v[0]] == w->gid[T->v[1]] ||
-                                 w->gid[T->v[0]] == w->gid[T->v[2]]))
-        return -1;
-    if (w->gid[T->v[1]] >= 0 && w->gid[T->v[1]] == w->gid[T->v[2]])
-        return -1;
+    /* Two corners that are copies of one sample: at a pole (the line between them collapses
+     * to that point) the triangle is one of the pole's fan and is left as it is; across a seam
+     * (copies a period apart) it spans the face and must be split like any other. */
+    for (int k = 0; k < 3; k++) {
+        int i = (k + 1) % 3, j = (k + 2) % 3;
+        if (w->gid[T->v[i]] >= 0 && w->gid[T->v[i]] == w->gid[T->v[j]] &&
+            collapsed(w, X[i], X[j], P[i]))
+            return -1;
+    }
     double e1[3], e2[3], N[3], longest = 0;
     for (int k = 0; k < 3; k++) {
         longest = fmax(longest, cb_vec3_dist(P[k], P[(k + 1) % 3]));
@@ -607,6 +620,10 @@ static cb_status emit(cb_tess_face_mesh *fm, const face_work *w, int n_shared, i
         o[2] = same_sense ? c : b;
     }
     free(local);
+    /* Every face bounds some area; a face that kept no triangle would leave a hole in the mesh
+     * that only the mesh check would see. */
+    if (fm->n_tris == 0)
+        return cb_error_set(err, CB_ERR_NUMERIC, "triangulation: no triangle left");
     return CB_OK;
 }
 

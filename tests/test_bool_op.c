@@ -40,8 +40,9 @@ static cb_topo_body *sphere(const double c[3], double r, int as_nurbs)
 /* Vertices where the exact result is not a manifold (two parts touching at points): the next
  * check_op expects exactly this many in the mesh, then it is 0 again. */
 static int touching_points;
-/* The next check_op's result touches itself along a curve (the union of solids touching along
- * a line): its mesh must be reported as self-intersecting, where the two sides touch. */
+/* The next check_op's result touches itself along a curve or at a point with no vertex in
+ * common (the union of solids touching along a line, or a sphere on a plane): its mesh must be
+ * reported as self-intersecting, where the two sides touch. */
 static int touching_curve;
 
 /* Runs op and checks the result: valid, its B-rep volume within rel of expected, and its mesh
@@ -425,8 +426,9 @@ static void test_birds_fig12(void)
 }
 
 /* Contacts, analytic and NURBS: two boxes sharing a face (whole, or in part), a sphere touching
- * a box at one point (the union: two solids), a cylinder lying on a box along a line (the
- * union: two solids touching along it, whose mesh is reported self-intersecting there), and a
+ * a box at one point (the union: two solids touching there, whose mesh is reported
+ * self-intersecting at the point), a cylinder lying on a box along a line (the union: two
+ * solids touching along it, whose mesh is reported self-intersecting there), and a
  * cylinder in a hole of its own radius (coincident cylinders). Each in all three operations,
  * volumes from the closed forms. */
 static void test_contacts(int as_nurbs)
@@ -447,6 +449,7 @@ static void test_contacts(int as_nurbs)
         const double vb[3] = {8, 8, 4 * PI / 3};
         for (int k = 0; k < 3; k++) {
             snprintf(name, sizeof name, "%s%s", what[k], as_nurbs ? " NURBS" : "");
+            touching_curve = k == 2;
             check_op(name, CB_BOOL_UNION, A, other[k], 8 + vb[k], 1e-6, NULL);
             check_op(name, CB_BOOL_INTERSECTION, A, other[k], 0, 1e-6, NULL);
             check_op(name, CB_BOOL_DIFFERENCE, A, other[k], 8, 1e-6, NULL);

@@ -9,6 +9,7 @@
 
 #include "brep/geom.h"
 #include "brep/mesh_check.h"
+#include "brep/prim.h"
 #include "brep/tess.h"
 #include "check.h"
 #include "io/step.h"
@@ -317,10 +318,92 @@ static void test_cancel(void)
     cb_topo_body_free(b);
 }
 
+/* The mesh of b at chord tolerance `chord` alone (angular tolerance pi/2, its largest, so
+ * that the chord decides the refinement), checked; its volume, NaN when it fails. */
+static double chord_mesh_volume(const char *name, const cb_topo_body *b, double chord)
+{
+    cb_tess_opts o;
+    cb_tess_opts_init(&o);
+    o.chord_tol = chord;
+    o.angle_tol = 0.5 * 3.14159265358979323846;
+    cb_mesh_t m;
+    cb_mesh_init(m);
+    cb_error err;
+    cb_mesh_check_report r;
+    cb_status st = cb_tess_body(m, b, &o, NULL, &err);
+    if (!st)
+        st = cb_mesh_check(&r, m, &err);
+    CHECK(st == CB_OK && cb_mesh_check_passed(&r), "%s: chord %g: %s", name, chord,
+          st ? err.msg : "mesh check failed");
+    double v = !st && cb_mesh_check_passed(&r) ? cb_mesh_volume(m) : NAN;
+    cb_mesh_clear(m);
+    return v;
+}
+
+/* The primitives with analytic and with B-spline faces: at chord tolerances c, c / 4, c / 16
+ * (c = 1e-2 of the box diagonal) every mesh passes the checks and its volume approaches the
+ * closed form from the mesh side within area x chord, by an order close to 1 in the
+ * tolerance (a chord's sagitta is what the tolerance bounds); the orders are printed. */
+static void test_primitives(void)
+{
+    static const char *const names[6] = {"box", "sphere", "ellipsoid", "cylinder", "cone",
+                                         "torus"};
+    const double PI = 3.14159265358979323846, lo[3] = {-1, -0.5, 0.25}, hi[3] = {2, 1.5, 1.25};
+    /* Closed-form volumes and areas of the shapes built below. */
+    const double sl = sqrt(0.25 + 1.5 * 1.5); /* the frustum's slant height */
+    const double vol[6] = {3 * 2 * 1, 4 * PI * 1.5 * 1.5 * 1.5 / 3, 4 * PI * 2 * 1 * 0.5 / 3,
+                           PI * 0.75 * 0.75 * 2, PI * 1.5 * (1 + 1 * 0.5 + 0.25) / 3,
+                           2 * PI * PI * 2 * 0.5 * 0.5};
+    const double area_bound[6] = {22, 4 * PI * 1.5 * 1.5, 4 * PI * 2 * 1, /* >= the areas */
+                                  2 * PI * 0.75 * (0.75 + 2), PI * (1 + 0.25 + 1.5 * sl),
+                                  4 * PI * PI * 2 * 0.5};
+    for (int shape = 0; shape < 6; shape++)
+        for (int as_nurbs = 0; as_nurbs < 2; as_nurbs++) {
+            cb_topo_body *b = NULL;
+            cb_error err;
+            cb_status st;
+            switch (shape) {
+            case 0: st = cb_prim_box(&b, NULL, lo, hi, as_nurbs, 0, &err); break;
+            case 1: st = cb_prim_sphere(&b, NULL, 1.5, as_nurbs, 0, &err); break;
+            case 2: st = cb_prim_ellipsoid(&b, NULL, 2, 1, 0.5, as_nurbs, 0, &err); break;
+            case 3: st = cb_prim_cylinder(&b, NULL, 0.75, 2, as_nurbs, 0, &err); break;
+            case 4: st = cb_prim_cone(&b, NULL, 1, 0.5, 1.5, as_nurbs, 0, &err); break;
+            default: st = cb_prim_torus(&b, NULL, 2, 0.5, as_nurbs, 0, &err); break;
+            }
+            CHECK(st == CB_OK, "%s: %s", names[shape], err.msg);
+            if (st)
+                continue;
+            char name[64];
+            snprintf(name, sizeof name, "%s%s", names[shape], as_nurbs ? " (B-spline)" : "");
+            double c = 10 * default_chord(b), e[3] = {0, 0, 0};
+            for (int k = 0; k < 3; k++) {
+                double chord = c / pow(4, k), v = chord_mesh_volume(name, b, chord);
+                e[k] = fabs(v - vol[shape]) / vol[shape];
+                CHECK(fabs(v - vol[shape]) <= area_bound[shape] * chord,
+                      "%s: chord %g: mesh volume %.12g, exact %.12g", name, chord, v,
+                      vol[shape]);
+            }
+            if (shape == 0) {
+                CHECK(e[0] < 1e-13 && e[1] < 1e-13 && e[2] < 1e-13,
+                      "box: mesh volume off by %g, %g, %g", e[0], e[1], e[2]);
+            } else {
+                double o1 = log(e[0] / e[1]) / log(4), o2 = log(e[1] / e[2]) / log(4);
+                CHECK(o1 > 0.75 && o2 > 0.75 && o1 < 1.5 && o2 < 1.5,
+                      "%s: volume error %.3g, %.3g, %.3g: orders %.2f, %.2f in the tolerance",
+                      name, e[0], e[1], e[2], o1, o2);
+                printf("%s: mesh volume error %.2e, %.2e, %.2e at chord / 1, 4, 16: orders "
+                       "%.2f, %.2f\n",
+                       name, e[0], e[1], e[2], o1, o2);
+            }
+            cb_topo_body_free(b);
+        }
+}
+
 int main(void)
 {
     test_options();
     test_cancel();
+    test_primitives();
     test_models();
     test_fine();
     return check_report("test_brep_tess");
