@@ -575,6 +575,16 @@ static cb_status grow(double **p, int *cap, int need)
     return CB_OK;
 }
 
+/* How far apart in 3D the ends of coedges c0 and c1 may be where one follows the other: the
+ * larger of their edges' tolerances (the validator's loop test), at least gap_tol. The joint
+ * is integrated as a straight segment in (u, v); a gap that wide moves the result by about
+ * its square. */
+static double joint_tol(const cb_topo_body *b, int c0, int c1, double gap_tol)
+{
+    return fmax(gap_tol, fmax(b->edges[b->coedges[c0].edge].tol,
+                              b->edges[b->coedges[c1].edge].tol));
+}
+
 static cb_status face_integrate(face_result *res, const cb_topo_body *b, int f, const double c[3],
                                 double scale, double rel, cb_context *ctx)
 {
@@ -639,7 +649,8 @@ static cb_status face_integrate(face_result *res, const cb_topo_body *b, int f, 
                         e->start[i] += e->map.off[i];
                         e->end[i] += e->map.off[i];
                     }
-                    if (cb_topo_inverter_spread(&inv, p, e->start) > gap_tol) {
+                    if (cb_topo_inverter_spread(&inv, p, e->start) >
+                        joint_tol(b, cc - 1, cc, gap_tol)) {
                         st = cb_error_set(err, CB_ERR_INVALID,
                                           "mass: face %d: coedges %d and %d do not meet in "
                                           "(u, v)",
@@ -664,7 +675,8 @@ static cb_status face_integrate(face_result *res, const cb_topo_body *b, int f, 
                 q2[i] = q[i] + wrap[2 * li + i] * inv.period[i];
                 any_wrap[i] |= wrap[2 * li + i] != 0;
             }
-            if (cb_topo_inverter_spread(&inv, p, q2) > gap_tol) {
+            if (cb_topo_inverter_spread(&inv, p, q2) >
+                joint_tol(b, lp->first + lp->count - 1, lp->first, gap_tol)) {
                 st = cb_error_set(err, CB_ERR_INVALID,
                                   "mass: face %d: loop %d does not close in (u, v)", f, l);
                 goto done;

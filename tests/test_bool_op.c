@@ -318,6 +318,47 @@ static void test_cardan_scenario(const char *scenario, int as_nurbs, unsigned op
     cb_topo_body_free(B);
 }
 
+/* Two crosses side by side, B moved by (a, a, 0) (a = 1): the cubes share the quarter
+ * [0, a]^2 x [-a, a]; each cube holds half of one arm of the other over a length a (A's +x and +y arms,
+ * B's -x and -y arms: 4 half discs, pi r^2 / 2 each); A's +x arm meets B's -y arm, and A's +y
+ * arm B's -x arm, beside the cubes in a quarter of a Steinmetz bicylinder (4 r^3 / 3 each). The
+ * arms' boundary lines z = +-r on the cube faces are tangent to the other arm's circle there.
+ * A - B is three solids touching at points: A's +x and +y arms come off where B's arms cut
+ * through them. */
+static void test_crosses_side(int as_nurbs)
+{
+    cb_cardan_params p;
+    cb_cardan_params_default(&p, CB_CARDAN_CROSS);
+    p.as_nurbs = as_nurbs;
+    cb_topo_body *A = NULL, *B = NULL;
+    cb_error err;
+    cb_status st = cb_model_cardan(&A, &p, &err);
+    p.pose.translate[0] = p.pose.translate[1] = p.cross.half_size;
+    if (!st)
+        st = cb_model_cardan(&B, &p, &err);
+    CHECK(st == CB_OK, "crosses side by side: %s", err.msg);
+    if (!st) {
+        const double r = p.cross.arm_radius, a = p.cross.half_size, L = p.cross.arm_reach;
+        double cross = 8 * a * a * a + 4 * PI * r * r * (L - a),
+               inter = 2 * a * a * a + 4 * (PI * r * r / 2) * a + 2 * (4 * r * r * r / 3);
+        const char *name = as_nurbs ? "crosses side by side NURBS" : "crosses side by side";
+        check_op(name, CB_BOOL_UNION, A, B, 2 * cross - inter, 1e-6, NULL);
+        check_op(name, CB_BOOL_INTERSECTION, A, B, inter, 1e-6, NULL);
+        /* A known gap: the difference's volume is right, but where the arms' remnants touch
+         * the body at points its B-rep joins them by tiny edges (tangent curves merged over
+         * a window in the face's arrangement), which the mesh shows as non-manifold edges. */
+        cb_topo_body *res = NULL;
+        st = cb_bool_run(&res, NULL, CB_BOOL_DIFFERENCE, A, B, NULL, NULL, &err);
+        const char *why = st ? err.msg : flaw(res, &err);
+        CHECK(why != NULL, "%s difference: passes every check now; make it a handled case",
+              name);
+        printf("%-22s %-12s flagged: %s\n", name, "difference", why ? why : "-");
+        cb_topo_body_free(res);
+    }
+    cb_topo_body_free(A);
+    cb_topo_body_free(B);
+}
+
 static void test_cardan(int as_nurbs)
 {
     test_cardan_scenario("cross_into_base", as_nurbs, 0xf);
@@ -752,6 +793,8 @@ int main(int argc, char **argv)
     if (!only || !strcmp(only, "cardan")) {
         test_cardan(0);
         test_cardan(1);
+        test_crosses_side(0);
+        test_crosses_side(1);
     }
     if (!only || !strcmp(only, "birds")) {
         test_birds();
