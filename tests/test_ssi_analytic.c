@@ -505,6 +505,50 @@ static int count_nodes(const cb_ssi_result_t r)
     return nodes;
 }
 
+/* The connected components of r's curves (joined where curve ends lie within 1e-9 of each
+ * other) in *comps, and in *closed those in which every curve end is shared (a loop, or a
+ * curve whose branches all meet at nodes). */
+static void count_components(const cb_ssi_result_t r, int *comps, int *closed)
+{
+    enum { MAX_C = 64 };
+    int parent[MAX_C], open_end[MAX_C] = {0}, n = (int)FLINT_MIN(r->n_curves, MAX_C);
+    for (int c = 0; c < n; c++)
+        parent[c] = c;
+    for (int c = 0; c < n; c++)
+        for (int e = 0; e < 2; e++) {
+            const cb_ssi_curve *C = r->curve + c;
+            const double *X = C->pt[e ? C->n - 1 : 0].xyz;
+            int shared = C->closed;
+            for (int d = 0; d < n; d++)
+                for (int f = 0; f < 2; f++) {
+                    const cb_ssi_curve *D = r->curve + d;
+                    if ((d == c && f == e) || d3(X, D->pt[f ? D->n - 1 : 0].xyz) > 1e-9)
+                        continue;
+                    shared = 1;
+                    int a = c, b = d;
+                    while (parent[a] != a)
+                        a = parent[a];
+                    while (parent[b] != b)
+                        b = parent[b];
+                    parent[a] = b;
+                }
+            open_end[c] |= !shared;
+        }
+    int any_open[MAX_C] = {0};
+    *comps = *closed = 0;
+    for (int c = 0; c < n; c++) {
+        int a = c;
+        while (parent[a] != a)
+            a = parent[a];
+        any_open[a] |= open_end[c];
+    }
+    for (int c = 0; c < n; c++)
+        if (parent[c] == c) {
+            ++*comps;
+            *closed += !any_open[c];
+        }
+}
+
 /* The torus/ellipsoid pairs of the paper's Table 4, whose intersections OCCT gets wrong (1: it
  * misses the two points where the ellipsoid's tips touch the outer equator from inside; 4: it
  * misses a contact and splits the curve at its node). The ellipsoid is taken by its equation,
@@ -519,16 +563,17 @@ static void test_table4(void)
         int yz; /* the ellipsoid's a, b along x, y (0) or y, z (1) */
         double a, b, c;
         counts want;
-        int nodes;
+        int nodes, components;
         const char *name;
-    } t4[5] = {{{0, 0, 0}, 4, 1, {0, 0, 0}, 0, 5, 2, 2, {2, 2, 0, 2, 0}, 0,
+    } t4[5] = {{{0, 0, 0}, 4, 1, {0, 0, 0}, 0, 5, 2, 2, {2, 2, 0, 2, 0}, 0, 2,
                 "Table 4 ex. 1: two loops and two contact points"},
-               {{1, 0, 0}, 3, 1, {0, 0, 0}, 1, 3, 4, 2, {1, 1, 0, 0, 0}, 0, "Table 4 ex. 2: a loop"},
-               {{0, 0, 0}, 3, 1, {0, 0, 0}, 1, 4, 3, 2, {8, 0, 0, 0, 0}, 4,
+               {{1, 0, 0}, 3, 1, {0, 0, 0}, 1, 3, 4, 2, {1, 1, 0, 0, 0}, 0, 1,
+                "Table 4 ex. 2: a loop"},
+               {{0, 0, 0}, 3, 1, {0, 0, 0}, 1, 4, 3, 2, {8, 0, 0, 0, 0}, 4, 1,
                 "Table 4 ex. 3: one curve with four nodes"},
-               {{0, 0, 0}, 2, 1, {1, 0, 0}, 0, 2, 2, 1, {2, 0, 0, 1, 0}, 1,
+               {{0, 0, 0}, 2, 1, {1, 0, 0}, 0, 2, 2, 1, {2, 0, 0, 1, 0}, 1, 1,
                 "Table 4 ex. 4: a curve with a node, a contact point"},
-               {{0, 0, 0}, 3, 1, {0, 0, 0}, 1, 3, 4, 2, {4, 0, 0, 0, 0}, 2,
+               {{0, 0, 0}, 3, 1, {0, 0, 0}, 1, 3, 4, 2, {4, 0, 0, 0, 0}, 2, 1,
                 "Table 4 ex. 5: one curve with two nodes"}};
     for (int e = 0; e < 5; e++) {
         cb_frame ft = frame(t4[e].tc[0], t4[e].tc[1], t4[e].tc[2], 0, 0, 1), fe;
@@ -542,10 +587,56 @@ static void test_table4(void)
         cb_analytic_surface to = torus(ft, t4[e].R, t4[e].r);
         cb_ssi_result_t r;
         pair(r, &to, TOR, &el, SPH, t4[e].want, t4[e].name);
-        int nodes = count_nodes(r);
-        CHECK(nodes == t4[e].nodes, "%s: %d nodes, expected %d", t4[e].name, nodes,
-              t4[e].nodes);
+        int nodes = count_nodes(r), comps, closed;
+        count_components(r, &comps, &closed);
+        CHECK(nodes == t4[e].nodes && comps == t4[e].components && closed == comps,
+              "%s: %d nodes, %d components (%d closed), expected %d, %d (all closed)",
+              t4[e].name, nodes, comps, closed, t4[e].nodes, t4[e].components);
         cb_ssi_result_clear(r);
+        /* Both as exact rational B-splines (cb_analytic_to_nurbs_exact): the torus' patches
+         * implicitised (degree 4, below the Dixon bound 8: base points), the ellipsoid's
+         * substituted. phi then has degree 8 and fibres that meet several critical points
+         * (the symmetry of the pair), which the topology refuses: ex. 1, 2, 3 and 5 report
+         * uncertified patch pairs; ex. 4 is certified and right. What is checked: a result
+         * is either reported uncertified or right (components, closedness, nodes, points),
+         * never a wrong one passed as certified. (With the ellipsoid implicitised instead,
+         * tried, all five were certified but ex. 2's loop came out as 4 pieces far apart:
+         * the clipping to the ellipsoid's patches, whose poles are base points, lost parts
+         * of it. Not used until that is found.) */
+        cb_nurbs_surface_t nt, ne;
+        cb_nurbs_surface_init(nt);
+        cb_nurbs_surface_init(ne);
+        CHECK(cb_analytic_to_nurbs_exact(nt, &to, TOR[0], TOR[1], TOR[2], TOR[3], &err) ==
+                      CB_OK &&
+                  cb_analytic_to_nurbs_exact(ne, &el, SPH[0], SPH[1], SPH[2], SPH[3], &err) ==
+                      CB_OK,
+              "%s: B-spline forms: %s", t4[e].name, err.msg);
+        cb_ssi_surface A, B;
+        cb_ssi_surface_set_nurbs(&A, nt);
+        cb_ssi_surface_set_nurbs(&B, ne);
+        cb_ssi_opts o;
+        cb_ssi_opts_default(&o);
+        cb_ssi_result_init(r);
+        cb_status st = cb_ssi_surfaces(r, &A, &B, -1, -1, &o, &err);
+        counts k = count(r);
+        nodes = count_nodes(r);
+        count_components(r, &comps, &closed);
+        int right = st == CB_OK && r->status == CB_OK && r->n_failed == 0 &&
+                    k.points == t4[e].want.points && nodes == t4[e].nodes &&
+                    comps == t4[e].components && closed == comps;
+        int refused = st == CB_OK && r->status != CB_OK && r->n_failed > 0;
+        CHECK(right || refused,
+              "%s, B-splines: status %d/%d, %ld failed (%s); %d points, %d nodes, %d components "
+              "(%d closed), expected %d, %d, %d (all closed)",
+              t4[e].name, st, r->status, (long)r->n_failed,
+              r->n_failed ? r->failed[0].msg : err.msg, k.points, nodes, comps, closed,
+              t4[e].want.points, t4[e].nodes, t4[e].components);
+        CHECK(e != 3 || right, "%s, B-splines: no longer certified", t4[e].name);
+        printf("%s, B-splines: %s\n", t4[e].name,
+               right ? "certified, right" : refused ? "uncertified patch pairs reported" : "WRONG");
+        cb_ssi_result_clear(r);
+        cb_nurbs_surface_clear(nt);
+        cb_nurbs_surface_clear(ne);
     }
 }
 
