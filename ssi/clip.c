@@ -454,6 +454,16 @@ static void p_start(double uv[2], const _cb_ssi_pair_geom *g, const double X[3])
     p_project(uv, g, X);
 }
 
+/* 1 when the patch's weight d(u, v) is not constant. */
+static int dixon_patch_rational(const cb_dixon_patch_struct *p)
+{
+    slong nc = (p->m + 1) * (p->n + 1);
+    for (slong k = 1; k < nc; k++)
+        if (!fmpz_is_zero(p->coef + 3 * nc + k))
+            return 1;
+    return 0;
+}
+
 /* The section 4.4 decision for a spline P: X lies on the trimmed patch iff the Dixon
  * inversion has a solution inside the box. Planar patches (no pencil) keep the Newton
  * decision already made. */
@@ -621,11 +631,13 @@ static cb_status clip_curve(_cb_ssi_piece_set *out, const _cb_ssi_trace_curve *t
     sample *S = malloc((size_t)(n + 1) * sizeof(sample));
     if (!S)
         return CB_ERR_NOMEM;
+    int p_rational = !g->p_analytic && dixon_patch_rational(g->p);
     for (slong i = 0; i < n; i++) {
         double X[3];
         patch_eval(X, NULL, NULL, g->q, tc->st[2 * i], tc->st[2 * i + 1]);
         _cb_ssi_pq pq = {{0, 0}, {tc->st[2 * i], tc->st[2 * i + 1]}, tc->fixed[i]};
-        if (i == 0 || !(S[i - 1].gap <= 10 * g->tol))
+        int started = i == 0 || !(S[i - 1].gap <= 10 * g->tol);
+        if (started)
             p_start(pq.uv, g, X);
         else if (g->p_analytic)
             analytic_invert(pq.uv, g, X, S[i - 1].pq.uv);
@@ -636,7 +648,44 @@ static cb_status clip_curve(_cb_ssi_piece_set *out, const _cb_ssi_trace_curve *t
         S[i].gap = refine(&pq, S[i].X, g);
         S[i].pq = pq;
         S[i].in = inside_p(g, &pq, S[i].gap);
+        if (!S[i].in && !started && p_rational) {
+            /* A rational patch's parameterisation continued past its box covers its surface
+             * again (a quarter circle's extends to the whole circle): followed from outside
+             * the box, the parameters may reach a point of the patch by the other preimage,
+             * outside the box. The inversion prefers the preimage inside. */
+            _cb_ssi_pq alt = {{0, 0}, {tc->st[2 * i], tc->st[2 * i + 1]}, tc->fixed[i]};
+            double Xa[3];
+            p_start(alt.uv, g, X);
+            double gap = refine(&alt, Xa, g);
+            if (inside_p(g, &alt, gap)) {
+                S[i].pq = alt;
+                S[i].gap = gap;
+                memcpy(S[i].X, Xa, sizeof Xa);
+                S[i].in = 1;
+            }
+        }
     }
+    /* The point where the curve leaves the box is sought between an inside sample and its
+     * outside neighbour, along their parameters: both must be on one sheet. An outside
+     * neighbour of a rational patch is placed again from the inside sample's parameters. */
+    for (slong i = 0; p_rational && i < n; i++)
+        for (int side = -1; side <= 1 && S[i].in; side += 2) {
+            slong j = i + side;
+            if (j < 0 || j >= n || S[j].in)
+                continue;
+            _cb_ssi_pq pq = {{S[i].pq.uv[0], S[i].pq.uv[1]},
+                             {tc->st[2 * j], tc->st[2 * j + 1]},
+                             tc->fixed[j]};
+            double X[3], Xr[3];
+            patch_eval(X, NULL, NULL, g->q, tc->st[2 * j], tc->st[2 * j + 1]);
+            p_project(pq.uv, g, X);
+            double gap = refine(&pq, Xr, g);
+            if (gap <= 10 * g->tol && !inside_p(g, &pq, gap)) {
+                S[j].pq = pq;
+                S[j].gap = gap;
+                memcpy(S[j].X, Xr, sizeof Xr);
+            }
+        }
     if (!tc->isolated && n > 1) {
         /* A long traced chord between two outside samples (a straight line needs few) may
          * cross P's box: sample it there. */

@@ -211,6 +211,30 @@ static void p_side_run(p_side *ps, const cb_nurbs_surface_struct *patch)
         snprintf(ps->msg, sizeof ps->msg, "implicitisation: %.120s", err.msg);
 }
 
+/* The implicit degree of the first Bezier patch of s, WORD_MAX when it cannot be found. For
+ * the rational quadratic patches of the exact conic forms it is the surface's own (base
+ * points lower it from the Dixon bound 8): 2 for a sphere or an ellipsoid, 4 for a torus. */
+static slong first_patch_implicit_degree(const cb_nurbs_surface_struct *s)
+{
+    cb_nurbs_surface_struct *pat = NULL;
+    int nu, nv;
+    cb_error err;
+    if (cb_nurbs_surface_extract_bezier(&pat, &nu, &nv, s, &err) != CB_OK)
+        return WORD_MAX;
+    p_side ps;
+    memset(&ps, 0, sizeof ps);
+    cb_dixon_patch_init(ps.dp);
+    cb_dixon_pencil_init(ps.pencil);
+    cb_implicit_init(ps.F);
+    p_side_run(&ps, pat);
+    slong deg = ps.st == CB_OK ? ps.F->deg : WORD_MAX;
+    cb_dixon_patch_clear(ps.dp);
+    cb_dixon_pencil_clear(ps.pencil);
+    cb_implicit_clear(ps.F);
+    cb_nurbs_surface_array_free(pat, nu * nv);
+    return deg;
+}
+
 static void p_body(void *vctx, size_t begin, size_t end)
 {
     p_ctx *c = vctx;
@@ -777,14 +801,23 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
         if (st0 != CB_OK || done)
             return st0;
     }
-    /* P is implicitised: the analytic side, or the spline of lower patch bidegree. */
+    /* P is implicitised: the analytic side, or the spline of lower patch bidegree; between
+     * rational patches of degree <= 2 (exact conic forms), the one of lower implicit degree,
+     * which gives phi the lower degree and its fibres in the other's parameters (an ellipsoid
+     * against a torus: degree 4, the torus' fibres, as the analytic route has it; the other
+     * way round phi has degree 8 and fibres through several critical points it refuses). */
     int swapped;
     if (A->kind == CB_SSI_ANALYTIC)
         swapped = 0;
     else if (B->kind == CB_SSI_ANALYTIC)
         swapped = 1;
-    else
-        swapped = B->nurbs->deg_u * B->nurbs->deg_v < A->nurbs->deg_u * A->nurbs->deg_v;
+    else {
+        int da = A->nurbs->deg_u * A->nurbs->deg_v, db = B->nurbs->deg_u * B->nurbs->deg_v;
+        swapped = db < da;
+        if (da == db && da <= 4 && patch_rational(A->nurbs) && patch_rational(B->nurbs))
+            swapped = first_patch_implicit_degree(B->nurbs) <
+                      first_patch_implicit_degree(A->nurbs);
+    }
     const cb_ssi_surface *Ps = swapped ? B : A, *Qs = swapped ? A : B;
     int fa = face_a, fb = face_b;
 
