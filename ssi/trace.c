@@ -284,11 +284,20 @@ static cb_status trace_edge(_cb_ssi_trace_curve *out, const cb_ctopo_t T, slong 
                                    !(va->kind < CB_CTOPO_CRITICAL && !va->singular));
                 if (!usable)
                     continue;
-                double x = r->s;
-                if (r->kind != CB_CTOPO_HELPING)
-                    x = r->s + (k == 0 ? 1 : -1) * 1e-6 * fabs(span);
-                sqf_at_s(work, h, x);
-                int nr = _cb_ssi_roots01(roots, work, (int)h->dt);
+                /* At the end, or just inside it (towards the other end: span has the
+                 * direction of travel, so also for an edge walked against s); where the count
+                 * there differs from the middle's, further inside: a helping line at round-off distance from a
+                 * critical one (a rational critical value) sees there the near-double roots
+                 * of another branch's fold as real in doubles. */
+                static const double inset[3] = {1e-6, 1e-4, 1e-2};
+                int nr = 0;
+                for (int q = r->kind == CB_CTOPO_HELPING ? -1 : 0; q < 3; q++) {
+                    double x = q < 0 ? r->s : r->s + (k == 0 ? 1 : -1) * inset[q] * span;
+                    sqf_at_s(work, h, x);
+                    nr = _cb_ssi_roots01(roots, work, (int)h->dt);
+                    if (pass == 1 || nr == n_mid)
+                        break;
+                }
                 if (nr == 0 || (pass == 0 && nr != n_mid))
                     continue;
                 int b = 0;

@@ -312,6 +312,104 @@ static void test_cylinder_seam(void)
     cb_nurbs_surface_clear(s);
 }
 
+/* Two circles of radius 0.3 about (0.4, 0.4) and (0.6, 0.5), crossing at two points: the zero
+ * set of z = 9 h(u, v) / 2^14, h the product of their equations, a degree-4 graph patch over
+ * [0, 1]^2 (9 clears the odd part of the Bernstein denominators, 2^14 brings z to the size of
+ * the square: exact data), cut by the plane z = 0.
+ * The critical values 0.1, 0.3, 0.7, 0.9 (the circles' folds) are rational, so the helping
+ * lines beside them lie a round-off distance away, where doubles see the near-double roots of
+ * the other circle's fold as real: the branch's rank must be read where the root count is the
+ * edge's (an arc from the helping line at 0.3 to the fold at 0.1 was one chord, 0.28 long,
+ * until it was). Checks: four arcs between the two crossing points, every output point on a
+ * circle, and every point of both circles within 2e-3 of the polylines (the chord tolerance
+ * is 1e-3 of the size). */
+static void test_crossing_circles(void)
+{
+    /* Power coefficients (u^i v^j, i, j <= 2) of (10u - a)^2 + (10v - b)^2 - 9. */
+    double c1[3][3] = {{0}}, c2[3][3] = {{0}}, h[5][5] = {{0}};
+    const double ab[2][2] = {{4, 4}, {6, 5}};
+    for (int k = 0; k < 2; k++) {
+        double(*c)[3] = k ? c2 : c1;
+        double a = ab[k][0], b = ab[k][1];
+        c[0][0] = a * a + b * b - 9;
+        c[1][0] = -20 * a;
+        c[2][0] = 100;
+        c[0][1] = -20 * b;
+        c[0][2] = 100;
+    }
+    for (int i = 0; i <= 2; i++)
+        for (int j = 0; j <= 2; j++)
+            for (int k = 0; k <= 2; k++)
+                for (int l = 0; l <= 2; l++)
+                    h[i + k][j + l] += 9 * c1[i][j] * c2[k][l] / 16384;
+    /* Bernstein coefficients of degree (4, 4): b_ij = sum C(i,k) C(j,l) / (C(4,k) C(4,l))
+     * a_kl; x = u, y = v by linear precision. */
+    static const double C4[5] = {1, 4, 6, 4, 1};
+    double pts[75], knots[10];
+    for (int k = 0; k < 5; k++) {
+        knots[k] = 0;
+        knots[5 + k] = 1;
+    }
+    for (int i = 0; i <= 4; i++)
+        for (int j = 0; j <= 4; j++) {
+            double z = 0;
+            for (int k = 0; k <= i; k++)
+                for (int l = 0; l <= j; l++) {
+                    double cik = 1, cjl = 1;
+                    for (int q = 0; q < k; q++)
+                        cik = cik * (i - q) / (q + 1);
+                    for (int q = 0; q < l; q++)
+                        cjl = cjl * (j - q) / (q + 1);
+                    z += cik * cjl / (C4[k] * C4[l]) * h[k][l];
+                }
+            pts[3 * (5 * i + j)] = i / 4.0;
+            pts[3 * (5 * i + j) + 1] = j / 4.0;
+            pts[3 * (5 * i + j) + 2] = z;
+        }
+    cb_nurbs_surface_t s;
+    cb_nurbs_surface_init(s);
+    cb_error err;
+    CHECK(cb_nurbs_surface_make(s, 4, 4, knots, 10, knots, 10, pts, NULL, 5, 5, &err) == CB_OK,
+          "crossing circles: patch: %s", err.msg);
+    cb_ssi_surface A, B;
+    plane_at(&A, 0);
+    cb_ssi_surface_set_nurbs(&B, s);
+    cb_ssi_result_t r;
+    run(r, &A, &B, 1, "plane x two crossing circles");
+    CHECK(r->n_curves == 4 && r->n_points == 0, "crossing circles: %ld curves, %ld points",
+          (long)r->n_curves, (long)r->n_points);
+    double on = 0, cover = 0;
+    for (slong c = 0; c < r->n_curves; c++)
+        for (slong i = 0; i < r->curve[c].n; i++) {
+            const double *x = r->curve[c].pt[i].xyz;
+            on = fmax(on, fmin(fabs(hypot(x[0] - 0.4, x[1] - 0.4) - 0.3),
+                               fabs(hypot(x[0] - 0.6, x[1] - 0.5) - 0.3)));
+        }
+    for (int k = 0; k < 2; k++)
+        for (int q = 0; q < 2000; q++) {
+            double a = 2 * 3.14159265358979323846 * q / 2000;
+            double X[2] = {ab[k][0] / 10 + 0.3 * cos(a), ab[k][1] / 10 + 0.3 * sin(a)}, d = 1;
+            if (X[0] < 0 || X[0] > 1 || X[1] < 0 || X[1] > 1)
+                continue;
+            for (slong c = 0; c < r->n_curves; c++)
+                for (slong i = 1; i < r->curve[c].n; i++) {
+                    const double *p = r->curve[c].pt[i - 1].xyz, *e = r->curve[c].pt[i].xyz;
+                    double dx = e[0] - p[0], dy = e[1] - p[1], L2 = dx * dx + dy * dy;
+                    double t = L2 > 0 ? ((X[0] - p[0]) * dx + (X[1] - p[1]) * dy) / L2 : 0;
+                    t = t < 0 ? 0 : t > 1 ? 1 : t;
+                    d = fmin(d, hypot(X[0] - p[0] - t * dx, X[1] - p[1] - t * dy));
+                }
+            cover = fmax(cover, d);
+        }
+    CHECK(on < 1e-9 && cover < 2e-3,
+          "crossing circles: points off the circles by %g, circles off the polylines by %g",
+          on, cover);
+    printf("two crossing circles: points on the circles to %.1e, circles covered to %.1e\n", on,
+           cover);
+    cb_ssi_result_clear(r);
+    cb_nurbs_surface_clear(s);
+}
+
 int main(void)
 {
     test_plane_patch();
@@ -320,5 +418,6 @@ int main(void)
     test_tangent_point();
     test_boundary_touch();
     test_cylinder_seam();
+    test_crossing_circles();
     return check_report("test_ssi_trace");
 }
