@@ -41,16 +41,24 @@ using Point = Kernel::Point_3;
 using Mesh = CGAL::Surface_mesh<Point>;
 namespace PMP = CGAL::Polygon_mesh_processing;
 
-cb_status check(cb_mesh_check_report *r, const cb_mesh_struct *m, cb_error *err)
+// The mesh as CGAL's polygon soup: its points and its triangles' corner indices.
+void read_soup(std::vector<Point> &points, std::vector<std::array<std::size_t, 3>> &triangles,
+               const cb_mesh_struct *m)
 {
-    std::vector<Point> points;
     points.reserve((size_t)m->n_vertices);
     for (size_t v = 0; v < (size_t)m->n_vertices; v++)
         points.emplace_back(m->xyz[3 * v], m->xyz[3 * v + 1], m->xyz[3 * v + 2]);
-    std::vector<std::array<std::size_t, 3>> triangles((size_t)m->n_triangles);
+    triangles.resize((size_t)m->n_triangles);
     for (size_t f = 0; f < triangles.size(); f++)
         for (int k = 0; k < 3; k++)
             triangles[f][k] = (std::size_t)m->tri[3 * f + k];
+}
+
+cb_status check(cb_mesh_check_report *r, const cb_mesh_struct *m, cb_error *err)
+{
+    std::vector<Point> points;
+    std::vector<std::array<std::size_t, 3>> triangles;
+    read_soup(points, triangles, m);
     if (!PMP::is_polygon_soup_a_polygon_mesh(triangles))
         return cb_error_set(err, CB_ERR_INVALID,
                             "mesh check: CGAL does not accept the mesh as a polygon mesh");
@@ -191,13 +199,8 @@ cb_status contacts(int *touching, int *crossing, const cb_mesh_struct *m, double
                    cb_error *err)
 {
     std::vector<Point> points;
-    points.reserve((size_t)m->n_vertices);
-    for (size_t v = 0; v < (size_t)m->n_vertices; v++)
-        points.emplace_back(m->xyz[3 * v], m->xyz[3 * v + 1], m->xyz[3 * v + 2]);
-    std::vector<std::array<std::size_t, 3>> triangles((size_t)m->n_triangles);
-    for (size_t f = 0; f < triangles.size(); f++)
-        for (int k = 0; k < 3; k++)
-            triangles[f][k] = (std::size_t)m->tri[3 * f + k];
+    std::vector<std::array<std::size_t, 3>> triangles;
+    read_soup(points, triangles, m);
     // One copy of a vertex per fan of triangles around it (the caller checked the orientation,
     // so nothing is turned): where parts of the surface meet at a point they become separate
     // there, and their meeting is then a contact between triangles like any other.
