@@ -21,7 +21,10 @@
  * added to, so refinement cannot break watertightness.
  *
  * Special places. A seam edge (used twice by one face) has its samples on both sides of the
- * (u, v) domain, mapped to the same 3D vertices. A pole or apex (a collapsed edge, or a jump of
+ * (u, v) domain, mapped to the same 3D vertices. A vertex a face's loops visit twice at one
+ * place (a pinch: a hole touching the outer boundary or another hole) is one point of the
+ * triangulation: its (u, v) from two pcurves may differ by round-off, and copies closer than
+ * the body's tolerance are unified. A pole or apex (a collapsed edge, or a jump of
  * a loop along a line of the surface that collapses to one point) is one 3D vertex: the
  * triangles that would join two of its (u, v) copies are dropped. A loop may close along such
  * a line, and a coedge that starts on it where the previous one ended keeps its pcurve's place

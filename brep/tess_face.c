@@ -541,6 +541,45 @@ static cb_status refine(face_work *w, cb_context *ctx, cb_error *err)
 
 /* ---------------------------------------------------------------- the face ----------------- */
 
+typedef struct {
+    int id, k;
+} id_at;
+
+static int cmp_id_at(const void *x, const void *y)
+{
+    const id_at *a = x, *b = y;
+    return a->id != b->id ? (a->id < b->id ? -1 : 1) : (a->k > b->k) - (a->k < b->k);
+}
+
+/* A vertex the loops pass through twice at one place (a hole touching the outer boundary, or
+ * two holes touching: a pinch) gets its (u, v) from two pcurves, which may differ by
+ * round-off; as two triangulation points a hair apart, the loop's segments through them
+ * cross and the constraints cannot be recovered. Copies of one sample closer than `near`
+ * (scaled (u, v), about 3D length) take the first copy's (u, v); seam and pole copies lie far
+ * apart and keep theirs. */
+static cb_status unify_pinches(face_loops *L, double su, double sv, double near, cb_error *err)
+{
+    id_at *order = malloc((size_t)(L->n + 1) * sizeof *order);
+    if (!order)
+        return cb_error_set(err, CB_ERR_NOMEM, "out of memory");
+    for (int k = 0; k < L->n; k++)
+        order[k] = (id_at){L->id[k], k};
+    qsort(order, (size_t)L->n, sizeof *order, cmp_id_at);
+    for (int i = 0, j; i < L->n; i = j) {
+        for (j = i + 1; j < L->n && order[j].id == order[i].id; j++)
+            for (int q = i; q < j; q++) {
+                double *a = L->uv + 2 * order[q].k, *b = L->uv + 2 * order[j].k;
+                if (hypot((b[0] - a[0]) * su, (b[1] - a[1]) * sv) <= near) {
+                    b[0] = a[0];
+                    b[1] = a[1];
+                    break;
+                }
+            }
+    }
+    free(order);
+    return CB_OK;
+}
+
 static cb_status triangulate(face_work *w, const face_loops *L, cb_error *err)
 {
     double box[4] = {HUGE_VAL, -HUGE_VAL, HUGE_VAL, -HUGE_VAL};
@@ -661,7 +700,9 @@ static cb_status face_run(cb_tess_face_mesh *fm, const cb_topo_body *b, int face
          * crease of the surface (a C0 knot line) would never end. */
         w.min_side = 0.1 * o->chord_tol;
         w.min_normal_width = 2 * o->chord_tol;
-        st = triangulate(&w, &L, err);
+        st = unify_pinches(&L, w.su, w.sv, b->tol > 0 ? b->tol : 1e-9 * o->chord_tol, err);
+        if (!st)
+            st = triangulate(&w, &L, err);
     }
     if (!st)
         st = refine(&w, ctx, err);

@@ -359,6 +359,41 @@ static void test_crosses_side(int as_nurbs)
     cb_topo_body_free(B);
 }
 
+/* The stacked crosses shifted by a / 2 along x (B moved by (a/2, 0, 2r), a = 1, r = 3/8):
+ * the cubes share [-a/2, a] x [-a, a] x [2r - a, a]; A's +x arm runs a/2 into B's cube and
+ * B's -x arm a/2 into A's, each cut by the other cube's face at distance a - 2r from its
+ * axis (a disc less the segment beyond a chord at that distance); the x arms are tangent
+ * along lines, the y arms miss each other. On A's cube face x = -a the circle where B's -x
+ * arm passes through touches A's arm hole: the face's one loop visits that contact twice, and
+ * with B-spline faces the two visits' (u, v) differ by round-off (the triangulation stalled
+ * until such copies were unified). */
+static void test_crosses_shifted(int as_nurbs)
+{
+    cb_cardan_params p;
+    cb_cardan_params_default(&p, CB_CARDAN_CROSS);
+    p.as_nurbs = as_nurbs;
+    cb_topo_body *A = NULL, *B = NULL;
+    cb_error err;
+    cb_status st = cb_model_cardan(&A, &p, &err);
+    const double r = p.cross.arm_radius, a = p.cross.half_size, L = p.cross.arm_reach;
+    p.pose.translate[0] = a / 2;
+    p.pose.translate[2] = 2 * r;
+    if (!st)
+        st = cb_model_cardan(&B, &p, &err);
+    CHECK(st == CB_OK, "crosses shifted: %s", err.msg);
+    if (!st) {
+        double d = a - 2 * r, seg = r * r * acos(d / r) - d * sqrt(r * r - d * d);
+        double cross = 8 * a * a * a + 4 * PI * r * r * (L - a),
+               inter = (1.5 * a) * (2 * a) * (2 * a - 2 * r) + 2 * (PI * r * r - seg) * (a / 2);
+        const char *name = as_nurbs ? "crosses shifted NURBS" : "crosses shifted";
+        check_op(name, CB_BOOL_UNION, A, B, 2 * cross - inter, 1e-6, NULL);
+        check_op(name, CB_BOOL_INTERSECTION, A, B, inter, 1e-6, NULL);
+        check_op(name, CB_BOOL_DIFFERENCE, A, B, cross - inter, 1e-6, NULL);
+    }
+    cb_topo_body_free(A);
+    cb_topo_body_free(B);
+}
+
 static void test_cardan(int as_nurbs)
 {
     test_cardan_scenario("cross_into_base", as_nurbs, 0xf);
@@ -795,6 +830,8 @@ int main(int argc, char **argv)
         test_cardan(1);
         test_crosses_side(0);
         test_crosses_side(1);
+        test_crosses_shifted(0);
+        test_crosses_shifted(1);
     }
     if (!only || !strcmp(only, "birds")) {
         test_birds();
