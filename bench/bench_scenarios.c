@@ -30,35 +30,13 @@
 
 #include "boolean/bool.h"
 #include "brep/mass.h"
+#include "bench/bench_stats.h"
 #include "io/json.h"
 #include "io/step_write.h"
 #include "models/models.h"
 
 extern char **environ;
 
-#define MAX_RUNS 64
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-static int cmp(const void *x, const void *y)
-{
-    double a = *(const double *)x, b = *(const double *)y;
-    return (a > b) - (a < b);
-}
-
-/* Median, least and largest of t[0 .. n) (sorted in place). */
-static void stats3(double out[3], double *t, int n)
-{
-    qsort(t, (size_t)n, sizeof *t, cmp);
-    out[0] = t[n / 2];
-    out[1] = t[0];
-    out[2] = t[n - 1];
-}
 
 /* One side's figures for one case. t[k]: median, min, max seconds on k + 1 threads (OCCT: its
  * parallel mode, in t[0] only). peak, base: KiB of the case's process and of the process that

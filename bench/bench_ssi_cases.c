@@ -39,24 +39,11 @@
 #include <unistd.h>
 
 #include "brep/analytic.h"
+#include "bench/bench_stats.h"
 #include "io/json.h"
 #include "ssi/ssi.h"
 
-#define MAX_RUNS 64
 #define MAX_DEG 6
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-static int cmp(const void *x, const void *y)
-{
-    double a = *(const double *)x, b = *(const double *)y;
-    return (a > b) - (a < b);
-}
 
 /* ---------------------------------------------------------------- exact polynomials -------- */
 
@@ -573,14 +560,6 @@ typedef struct {
     char msg[120];
     curve_set set;
 } side;
-
-static void stats3(double out[3], double *t, int n)
-{
-    qsort(t, (size_t)n, sizeof *t, cmp);
-    out[0] = t[n / 2];
-    out[1] = t[0];
-    out[2] = t[n - 1];
-}
 
 static void run_colibri(side *o, const ssi_case *c, int runs, double *tol)
 {
