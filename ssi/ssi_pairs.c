@@ -787,6 +787,18 @@ static void measure(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_ssi_sur
     r->max_dist_b = fmax(r->max_dist_b, surface_dist(B, p->uv_b, p->xyz));
 }
 
+/* The per-patch boxes of cb_ssi_surfaces, used only while the patch pairs are chosen. */
+static void free_boxes(cb_obb *qobb, cb_obb *pobb, cb_aabb *qbox, cb_aabb *pbox, char *qhave,
+                       char *phave)
+{
+    free(qobb);
+    free(pobb);
+    free(qbox);
+    free(pbox);
+    free(qhave);
+    free(phave);
+}
+
 cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_ssi_surface *B,
                           int face_a, int face_b, const cb_ssi_opts *opts, cb_error *err)
 {
@@ -847,12 +859,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
     char *qhave = calloc((size_t)nq, 1), *phave = calloc((size_t)np, 1);
     pair_job *job = calloc((size_t)np * nq + 1, sizeof(pair_job));
     if (!qobb || !pobb || !qbox || !pbox || !qhave || !phave || !job) {
-        free(qobb);
-        free(pobb);
-        free(qbox);
-        free(pbox);
-        free(qhave);
-        free(phave);
+        free_boxes(qobb, pobb, qbox, pbox, qhave, phave);
         free(job);
         cb_nurbs_surface_array_free(qpat, nq);
         if (ppat)
@@ -939,12 +946,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
             _cb_ssi_piece_set_init(&job[nj].pieces);
             nj++;
         }
-    free(qobb);
-    free(pobb);
-    free(qbox);
-    free(pbox);
-    free(qhave);
-    free(phave);
+    free_boxes(qobb, pobb, qbox, pbox, qhave, phave);
 
     cb_implicit_t F_an;
     cb_implicit_init(F_an);

@@ -318,9 +318,25 @@ static void test_cardan_scenario(const char *scenario, int as_nurbs, unsigned op
     cb_topo_body_free(B);
 }
 
+/* The default cross of p's shape (analytic or B-spline faces) as A, and B the same cross
+ * moved by t; the volume of one cross in *cross (8 a^3 + 4 pi r^2 (L - a)). */
+static cb_status cross_and_moved(cb_topo_body **A, cb_topo_body **B, double *cross,
+                                 const cb_cardan_params *p, const double t[3], cb_error *err)
+{
+    cb_cardan_params q = *p;
+    const double r = q.cross.arm_radius, a = q.cross.half_size, L = q.cross.arm_reach;
+    *cross = 8 * a * a * a + 4 * PI * r * r * (L - a);
+    cb_status st = cb_model_cardan(A, &q, err);
+    for (int k = 0; k < 3; k++)
+        q.pose.translate[k] = t[k];
+    if (!st)
+        st = cb_model_cardan(B, &q, err);
+    return st;
+}
+
 /* Two crosses side by side, B moved by (a, a, 0) (a = 1): the cubes share the quarter
- * [0, a]^2 x [-a, a]; each cube holds half of one arm of the other over a length a (A's +x and +y arms,
- * B's -x and -y arms: 4 half discs, pi r^2 / 2 each); A's +x arm meets B's -y arm, and A's +y
+ * [0, a]^2 x [-a, a]; each cube holds half of one arm of the other over a length a (A's +x
+ * and +y arms, B's -x and -y arms: 4 half discs, pi r^2 / 2 each); A's +x arm meets B's -y arm, and A's +y
  * arm B's -x arm, beside the cubes in a quarter of a Steinmetz bicylinder (4 r^3 / 3 each). The
  * arms' boundary lines z = +-r on the cube faces are tangent to the other arm's circle there.
  * A - B is three solids touching at points: A's +x and +y arms come off where B's arms cut
@@ -330,17 +346,14 @@ static void test_crosses_side(int as_nurbs)
     cb_cardan_params p;
     cb_cardan_params_default(&p, CB_CARDAN_CROSS);
     p.as_nurbs = as_nurbs;
+    const double r = p.cross.arm_radius, a = p.cross.half_size, t[3] = {a, a, 0};
     cb_topo_body *A = NULL, *B = NULL;
     cb_error err;
-    cb_status st = cb_model_cardan(&A, &p, &err);
-    p.pose.translate[0] = p.pose.translate[1] = p.cross.half_size;
-    if (!st)
-        st = cb_model_cardan(&B, &p, &err);
+    double cross;
+    cb_status st = cross_and_moved(&A, &B, &cross, &p, t, &err);
     CHECK(st == CB_OK, "crosses side by side: %s", err.msg);
     if (!st) {
-        const double r = p.cross.arm_radius, a = p.cross.half_size, L = p.cross.arm_reach;
-        double cross = 8 * a * a * a + 4 * PI * r * r * (L - a),
-               inter = 2 * a * a * a + 4 * (PI * r * r / 2) * a + 2 * (4 * r * r * r / 3);
+        double inter = 2 * a * a * a + 4 * (PI * r * r / 2) * a + 2 * (4 * r * r * r / 3);
         const char *name = as_nurbs ? "crosses side by side NURBS" : "crosses side by side";
         check_op(name, CB_BOOL_UNION, A, B, 2 * cross - inter, 1e-6, NULL);
         check_op(name, CB_BOOL_INTERSECTION, A, B, inter, 1e-6, NULL);
@@ -372,19 +385,16 @@ static void test_crosses_shifted(int as_nurbs)
     cb_cardan_params p;
     cb_cardan_params_default(&p, CB_CARDAN_CROSS);
     p.as_nurbs = as_nurbs;
+    const double r = p.cross.arm_radius, a = p.cross.half_size, t[3] = {a / 2, 0, 2 * r};
     cb_topo_body *A = NULL, *B = NULL;
     cb_error err;
-    cb_status st = cb_model_cardan(&A, &p, &err);
-    const double r = p.cross.arm_radius, a = p.cross.half_size, L = p.cross.arm_reach;
-    p.pose.translate[0] = a / 2;
-    p.pose.translate[2] = 2 * r;
-    if (!st)
-        st = cb_model_cardan(&B, &p, &err);
+    double cross;
+    cb_status st = cross_and_moved(&A, &B, &cross, &p, t, &err);
     CHECK(st == CB_OK, "crosses shifted: %s", err.msg);
     if (!st) {
         double d = a - 2 * r, seg = r * r * acos(d / r) - d * sqrt(r * r - d * d);
-        double cross = 8 * a * a * a + 4 * PI * r * r * (L - a),
-               inter = (1.5 * a) * (2 * a) * (2 * a - 2 * r) + 2 * (PI * r * r - seg) * (a / 2);
+        double inter =
+            (1.5 * a) * (2 * a) * (2 * a - 2 * r) + 2 * (PI * r * r - seg) * (a / 2);
         const char *name = as_nurbs ? "crosses shifted NURBS" : "crosses shifted";
         check_op(name, CB_BOOL_UNION, A, B, 2 * cross - inter, 1e-6, NULL);
         check_op(name, CB_BOOL_INTERSECTION, A, B, inter, 1e-6, NULL);
