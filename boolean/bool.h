@@ -174,6 +174,19 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
                             const cb_bool_solid *A, const cb_bool_solid *B, double tol,
                             cb_error *err);
 
+/* Restricts r, the result of cb_ssi_bodies(r, A, B, ...), to the trimmed faces: each curve is
+ * replaced by its parts inside both faces (the cuts of cb_bool_cuts_make, exits refined onto
+ * both surfaces, ends meeting within CB_BOOL_WELD tol made one point), the pieces of a curve
+ * that were split only where it crosses a periodic window's end joined again (a loop around a
+ * cylinder face stays one closed curve; its (u, v) jumps by the period at the seam), and
+ * isolated points outside either face (cb_face_classify_uv, ON within tol counts as inside)
+ * dropped. (u, v) are in the faces' windows (cb_bool_cut). Curve order follows r's. Failures,
+ * coincident records and counters are left as they are. A and B must be indexed with a pcurve
+ * on every coedge (the STEP reader's bodies are). Errors of cb_bool_solid_new, CB_ERR_INVALID
+ * for tol, CB_ERR_NOMEM; r is then unchanged. */
+cb_status cb_bool_ssi_trim(cb_ssi_result_struct *r, const cb_topo_body *A, const cb_topo_body *B,
+                           double tol, cb_error *err);
+
 /* ---------------------------------------------------------------- operations --------------- */
 
 typedef enum { CB_BOOL_UNION, CB_BOOL_INTERSECTION, CB_BOOL_DIFFERENCE } cb_bool_op;

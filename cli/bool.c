@@ -178,8 +178,10 @@ static int crosses_itself(const cb_topo_body *b, cb_context *ctx, char *msg, siz
 int cb_cli_bool(int argc, char **argv)
 {
     const char *files[2] = {NULL, NULL}, *out = NULL, *json = NULL, *opname = NULL;
-    int quiet = 0, threads = 0, nf = 0, move_b = 0;
-    double tol = 0, rot[4] = {0, 0, 1, 0}, shift[3] = {0, 0, 0};
+    int quiet = 0, threads = 0, nf = 0, moved;
+    double tol = 0;
+    cb_cli_move move;
+    cb_cli_move_init(&move);
     for (int k = 1; k < argc; k++) {
         if (!strcmp(argv[k], "--help")) {
             fputs(BOOL_USAGE, stdout);
@@ -197,23 +199,9 @@ int cb_cli_bool(int argc, char **argv)
         } else if (!strcmp(argv[k], "--tol") && k + 1 < argc) {
             if (cb_cli_tol_arg(&tol, argv[++k]))
                 return 2;
-        } else if (!strcmp(argv[k], "--rotate-b") || !strcmp(argv[k], "--translate-b")) {
-            int rotate = argv[k][2] == 'r', m = rotate ? 4 : 3;
-            double *v = rotate ? rot : shift;
-            for (int i = 0; i < m; i++) {
-                char *end = NULL;
-                v[i] = k + 1 + i < argc ? strtod(argv[k + 1 + i], &end) : NAN;
-                if (!end || end == argv[k + 1 + i] || *end || !isfinite(v[i])) {
-                    fprintf(stderr, "colibri: bool: %s needs %d numbers\n", argv[k], m);
-                    return 2;
-                }
-            }
-            if (rotate && v[3] != 0 && !(fabs(v[0]) + fabs(v[1]) + fabs(v[2]) > 0)) {
-                fprintf(stderr, "colibri: bool: --rotate-b: the axis is zero\n");
+        } else if ((moved = cb_cli_move_parse(&move, argc, argv, &k, "bool")) != 0) {
+            if (moved < 0)
                 return 2;
-            }
-            k += m;
-            move_b = 1;
         } else if (argv[k][0] == '-' && argv[k][1]) {
             fprintf(stderr, "colibri: bool: unknown option '%s'\n", argv[k]);
             fputs(BOOL_USAGE, stderr);
@@ -262,17 +250,7 @@ int cb_cli_bool(int argc, char **argv)
             return cb_cli_input_exit(rs);
         }
     }
-    if (move_b) {
-        cb_xform r, t, x;
-        const double origin[3] = {0, 0, 0};
-        if (rot[3] != 0)
-            cb_xform_rotation(&r, origin, rot, rot[3] * 3.14159265358979323846 / 180);
-        else
-            cb_xform_identity(&r);
-        cb_xform_translation(&t, shift);
-        cb_xform_compose(&x, &t, &r);
-        cb_topo_body_transform(body[1], &x);
-    }
+    cb_cli_move_apply(&move, body[1]);
     cb_context ctx;
     cb_context_init(&ctx);
     ctx.threads = threads;

@@ -7,6 +7,7 @@
 #define CB_CLI_COMMANDS_H
 
 #include "brep/status.h"
+#include "brep/topo.h"
 
 int cb_cli_info(int argc, char **argv);
 int cb_cli_model(int argc, char **argv);
@@ -20,6 +21,23 @@ int cb_cli_demo(int argc, char **argv);
  * what the option needs. --tol: a positive finite number; --threads: a count in [0, 4096]. */
 int cb_cli_tol_arg(double *tol, const char *s);
 int cb_cli_threads_arg(int *threads, const char *s);
+
+/* B moved before the work (B against a moved copy of itself): turned by deg degrees about
+ * axis through the origin, then shifted. */
+typedef struct {
+    double axis[3], deg, shift[3];
+    int set;
+} cb_cli_move;
+
+void cb_cli_move_init(cb_cli_move *m);
+
+/* If argv[*k] is --rotate-b AX AY AZ DEG or --translate-b X Y Z, reads it into m, advances *k
+ * past its values and returns 1; 0 when it is neither; -1 after printing what it needs
+ * (command names the command in the message; exit status 2). */
+int cb_cli_move_parse(cb_cli_move *m, int argc, char **argv, int *k, const char *command);
+
+/* Applies m to b (nothing when no option was given). */
+void cb_cli_move_apply(const cb_cli_move *m, cb_topo_body *b);
 
 /* A cb_context progress callback drawing "stage NN%" on stderr when the whole percentage
  * changes; user points to an int holding the last one drawn (start it at -1). */

@@ -5,6 +5,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "boolean/bool.h"
 #include "cli/commands.h"
 #include "io/step.h"
 #include "ssi/ssi.h"
@@ -12,6 +13,7 @@
 
 static const char SSI_USAGE[] =
     "usage: colibri ssi A.step B.step [--json OUT.json] [--tol T] [--threads N] [--quiet]\n"
+    "                   [--rotate-b AX AY AZ DEG] [--translate-b X Y Z]\n"
     "\n"
     "Intersects every face of A with every face of B whose boxes overlap, with the\n"
     "topology-guaranteed surface/surface intersection, and prints the counts: curves,\n"
@@ -20,20 +22,26 @@ static const char SSI_USAGE[] =
     "sub-patch pairs it examined, the largest distance of an output point to each surface,\n"
     "and timings.\n"
     "Handled and tested: analytic (plane, cylinder, cone, sphere, torus) against B-spline\n"
-    "faces. B-spline pairs of low degree take the same path but are not tested yet.\n"
-    "Curves are clipped to the faces' parameter boxes, not to their trimming loops. Pairs\n"
-    "that could not be certified are listed, never dropped.\n"
+    "faces; B-spline pairs (low degrees algebraically, the rest by certified subdivision).\n"
+    "Curves and isolated points are clipped to both faces' trimming loops: a curve leaving a\n"
+    "face ends on its boundary, refined onto both surfaces. Pairs that could not be\n"
+    "certified are listed, never dropped.\n"
     "\n"
     "options:\n"
     "  --json OUT   write {\"tolerance\", \"time_s\", \"branches\": [{\"face_a\", \"face_b\",\n"
     "               \"kind\": \"curve\"|\"point\", \"closed\", \"tangential\", \"xyz\", \"uv_a\",\n"
     "               \"uv_b\"}], \"not_certified\": [{\"face_a\", \"face_b\", \"patch_a\",\n"
-    "               \"patch_b\", \"status\", \"message\"}]}\n"
+    "               \"patch_b\", \"status\", \"message\"}]}; a periodic parameter lies in one\n"
+    "               period around the face's loops (a loop around a cylinder jumps by the\n"
+    "               period at the seam)\n"
     "  --tol T      distance of every output point to both surfaces (default 1e-6 times\n"
     "               the diagonal of the models' box)\n"
     "  --threads N  threads for patch pairs (default 0: all hardware threads)\n"
     "  --quiet      print nothing on stdout (the exit status and --json OUT still tell);\n"
     "               errors still go to stderr\n"
+    "  --rotate-b AX AY AZ DEG  turn B by DEG degrees about the axis (AX, AY, AZ) through\n"
+    "               the origin first (B against a moved copy of itself)\n"
+    "  --translate-b X Y Z  then move B by (X, Y, Z)\n"
     "\n"
     "Exit status: 0 every pair was certified, 1 the work failed (numerically or unsupported)\n"
     "or some pair could not be certified, 2 bad usage or a file that cannot be used (missing,\n"
@@ -116,7 +124,9 @@ static int write_json(const char *path, const cb_ssi_result_t r, double t)
 int cb_cli_ssi(int argc, char **argv)
 {
     const char *files[2] = {NULL, NULL}, *json = NULL;
-    int nfiles = 0, quiet = 0;
+    int nfiles = 0, quiet = 0, moved;
+    cb_cli_move move;
+    cb_cli_move_init(&move);
     cb_ssi_opts o;
     cb_ssi_opts_default(&o);
     for (int i = 1; i < argc; i++) {
@@ -134,6 +144,9 @@ int cb_cli_ssi(int argc, char **argv)
                 return 2;
         } else if (!strcmp(a, "--quiet")) {
             quiet = 1;
+        } else if ((moved = cb_cli_move_parse(&move, argc, argv, &i, "ssi")) != 0) {
+            if (moved < 0)
+                return 2;
         } else if (a[0] == '-') {
             fprintf(stderr, "colibri ssi: unknown or incomplete option '%s'\n%s", a, SSI_USAGE);
             return 2;
@@ -160,11 +173,15 @@ int cb_cli_ssi(int argc, char **argv)
             return cb_cli_input_exit(rs);
         }
     }
+    cb_cli_move_apply(&move, body[1]);
     double t1 = wall_s();
     cb_ssi_result_t r;
     cb_ssi_result_init(r);
     cb_error_clear(&err);
     cb_status st = cb_ssi_bodies(r, body[0], body[1], &o, &err);
+    slong untrimmed[2] = {r->n_curves, r->n_points};
+    if (st == CB_OK)
+        st = cb_bool_ssi_trim(r, body[0], body[1], r->tol, &err);
     double t2 = wall_s();
     int rc = 0;
     if (st != CB_OK) {
@@ -177,6 +194,9 @@ int cb_cli_ssi(int argc, char **argv)
         printf("faces            %d x %d\n", body[0]->n_faces, body[1]->n_faces);
         printf("curves           %ld (%ld polyline points)\n", (long)r->n_curves, (long)npts);
         printf("isolated points  %ld\n", (long)r->n_points);
+        printf("trimming         %ld curves and %ld isolated points on the faces' surfaces, "
+               "clipped to the trimmed faces\n",
+               (long)untrimmed[0], (long)untrimmed[1]);
         printf("patch pairs      %ld: culled %ld, proved empty %ld, certified %ld, "
                "not certified %ld\n",
                (long)r->pairs_total, (long)r->pairs_culled, (long)r->pairs_empty,

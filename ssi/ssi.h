@@ -49,8 +49,8 @@
  * Surfaces that coincide (within tol, or exactly phi = 0) give no curves but a
  * cb_ssi_coincident record with the orientation of their normals.
  *
- * What is not done: trimming loops of faces (curves are clipped to the faces' parameter boxes),
- * surfaces of revolution and extrusion. */
+ * Curves are clipped to the faces' parameter boxes; cb_bool_ssi_trim (boolean/bool.h) clips
+ * them to the faces' trimming loops. Not done: surfaces of revolution and extrusion. */
 #ifndef CB_SSI_SSI_H
 #define CB_SSI_SSI_H
 

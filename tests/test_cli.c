@@ -484,6 +484,13 @@ static void test_ssi_flags(void)
         snprintf(args, sizeof args, "ssi %s %s --quiet %s", a, b, bad[k]);
         cli_expect(args, 2, "--threads needs a count in [0, 4096]");
     }
+    /* B moved away: no face pair is left; a zero axis is refused. */
+    snprintf(args, sizeof args, "ssi %s %s --rotate-b 0 0 1 30 --translate-b 1000 0 0", a, b);
+    cli_expect(args, 0, "patch pairs      0:");
+    snprintf(args, sizeof args, "ssi %s %s --rotate-b 0 0 0 30", a, b);
+    cli_expect(args, 2, "--rotate-b: the axis is zero");
+    snprintf(args, sizeof args, "ssi %s %s --translate-b 1 2", a, b);
+    cli_expect(args, 2, "--translate-b needs 3 numbers");
     snprintf(args, sizeof args, "ssi %s %s --tol inf", a, b);
     cli_expect(args, 2, "--tol needs a positive number");
     snprintf(args, sizeof args, "ssi %s %s --threads", a, b);
