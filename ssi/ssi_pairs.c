@@ -126,9 +126,9 @@ typedef struct {
  * ill-conditioned). */
 #define NEAR_PLANAR 1e-12
 
-/* The plane through the three corners of the patch spanning the largest triangle, when every
- * control point is within NEAR_PLANAR of it; 0 otherwise. */
-static int near_planar(cb_implicit_t F, const cb_nurbs_surface_struct *patch)
+/* The three corners (homogeneous) of a net spanning the largest triangle, when every control
+ * point is within NEAR_PLANAR of their plane; 0 otherwise. */
+static int near_planar_corners(double h[3][4], const cb_nurbs_surface_struct *patch)
 {
     int nu = patch->n_u, nv = patch->n_v, np = nu * nv;
     const int corner[4] = {0, nv - 1, (nu - 1) * nv, np - 1};
@@ -176,14 +176,21 @@ static int near_planar(cb_implicit_t F, const cb_nurbs_surface_struct *patch)
         if (!(fabs(d) <= NEAR_PLANAR * diag))
             return 0;
     }
-    double h[3][4];
     int m = 0;
     for (int c = 0; c < 4; c++)
         if (c != skip) {
             memcpy(h[m], patch->cw + 4 * corner[c], 4 * sizeof(double));
             m++;
         }
-    return cb_implicit_plane_through(F, (const double(*)[4])h, NULL) == CB_OK;
+    return 1;
+}
+
+/* The plane of a near planar patch (near_planar_corners); 0 when it is not planar. */
+static int near_planar(cb_implicit_t F, const cb_nurbs_surface_struct *patch)
+{
+    double h[3][4];
+    return near_planar_corners(h, patch) &&
+           cb_implicit_plane_through(F, (const double(*)[4])h, NULL) == CB_OK;
 }
 
 /* Implicit equation of one P patch; a planar patch (no Dixon pencil) gets its exact plane, a
@@ -824,11 +831,18 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
     else if (B->kind == CB_SSI_ANALYTIC)
         swapped = 1;
     else {
+        double h[3][4];
         int da = A->nurbs->deg_u * A->nurbs->deg_v, db = B->nurbs->deg_u * B->nurbs->deg_v;
+        int pa = near_planar_corners(h, A->nurbs), pb = near_planar_corners(h, B->nurbs);
         swapped = db < da;
         if (da == db && da <= 4 && patch_rational(A->nurbs) && patch_rational(B->nurbs))
             swapped = first_patch_implicit_degree(B->nurbs) <
                       first_patch_implicit_degree(A->nurbs);
+        /* A planar B-spline (CAD systems write planes so) is P: its implicit equation is its
+         * plane, phi has the other patch's degree, and the algebraic route decides the
+         * tangencies (a fillet running into the plane) that subdivision cannot. */
+        if (pa != pb)
+            swapped = pb;
     }
     const cb_ssi_surface *Ps = swapped ? B : A, *Qs = swapped ? A : B;
     int fa = face_a, fb = face_b;
@@ -926,12 +940,17 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                                   ? 1
                                   : (Ps->analytic.kind == CB_ANALYTIC_TORUS ? 4 : 2));
             slong dq = FLINT_MAX(qpat[j].deg_u, qpat[j].deg_v);
-            if (ppat && patch_rational(ppat + i) && ppat[i].deg_u * ppat[i].deg_v <= 4) {
+            double h[3][4];
+            int planar = ppat && near_planar_corners(h, ppat + i);
+            if (planar)
+                N = 1; /* p_side_run gives the patch its plane */
+            if (!planar && ppat && patch_rational(ppat + i) &&
+                ppat[i].deg_u * ppat[i].deg_v <= 4) {
                 /* A rational P patch of degree <= 2: implicitise, then choose (exact conic
                  * weights, as Colibri's models write them, give base points and an implicit
                  * degree below 2 m n, e.g. 2 for a cylinder or sphere piece). */
                 job[nj].probe = 1;
-            } else if (ppat && patch_rational(ppat + i)) {
+            } else if (!planar && ppat && patch_rational(ppat + i)) {
                 job[nj].spline = 1;
                 r->pairs_subdivided++;
             } else if (N * dq > opts->max_phi_degree && ppat) {

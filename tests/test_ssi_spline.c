@@ -378,12 +378,15 @@ static void test_small_loop(void)
     CHECK(max_dist(r, p, q) <= 1e-9, "distance %g", max_dist(r, p, q));
     cb_ssi_result_clear(r);
 
-    /* Touching at one point (R = 0): no direction exists near the contact, so that region
-     * must be reported with a box around (x, y) = (0.4, 0.5), never dropped. */
+    /* Touching at one point (R = 0) by the subdivision route (a planar patch is implicitised,
+     * so max_phi_degree 1 keeps this pair off the algebraic route): no direction exists near
+     * the contact, so that region must be reported with a box around (x, y) = (0.4, 0.5),
+     * never dropped. */
     cb_nurbs_surface_t q0;
     cb_nurbs_surface_init(q0);
     tilted_plane(q0, alpha * alpha / 4, alpha, 0.3);
     o.spline_max_depth = 12;
+    o.max_phi_degree = 1;
     run(r, p, q0, &o, "touching at a point");
     CHECK(r->status != CB_OK && r->n_failed >= 1, "touch not reported: %ld failures",
           (long)r->n_failed);
@@ -426,6 +429,48 @@ static void test_coincident(void)
     cb_nurbs_surface_clear(p);
 }
 
+/* A biquadratic paraboloid z = -(x - 1/2)^2 - (y - 1/2)^2 and its tangent plane at
+ * (3/8, 1/2), a bicubic patch, every coefficient dyadic, so the contact is exact: the planar
+ * patch is implicitised and the algebraic route proves one isolated point there, tangential,
+ * where subdivision could only report the region uncertified. */
+static void test_touch_exact(void)
+{
+    const double t[3] = {0, 0.5, 1}, f[3] = {-0.25, 0.25, -0.25}, al = 0.25;
+    double pq[27], knots[6] = {0, 0, 0, 1, 1, 1};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            pq[3 * (3 * i + j)] = t[i];
+            pq[3 * (3 * i + j) + 1] = t[j];
+            pq[3 * (3 * i + j) + 2] = f[i] + f[j];
+        }
+    cb_nurbs_surface_t a, b;
+    cb_nurbs_surface_init(a);
+    cb_nurbs_surface_init(b);
+    cb_error err;
+    CHECK(cb_nurbs_surface_make(a, 2, 2, knots, 6, knots, 6, pq, NULL, 3, 3, &err) == CB_OK,
+          "paraboloid: %s", err.msg);
+    tilted_plane(b, al * al / 4, al, 0);
+    cb_ssi_opts o;
+    cb_ssi_opts_default(&o);
+    cb_ssi_result_t r;
+    run(r, a, b, &o, "touching at a point, exact");
+    CHECK(r->status == CB_OK && r->n_failed == 0 && r->n_curves == 0 && r->n_points == 1 &&
+              r->pairs_subdivided == 0,
+          "status %d, %ld failed, %ld curves, %ld points, %ld subdivided", r->status,
+          (long)r->n_failed, (long)r->n_curves, (long)r->n_points, (long)r->pairs_subdivided);
+    if (r->n_points == 1) {
+        const cb_ssi_isolated *p = r->point;
+        CHECK(p->tangential && fabs(p->p.xyz[0] - 0.375) < 1e-9 && fabs(p->p.xyz[1] - 0.5) < 1e-9 &&
+                  fabs(p->p.xyz[2] + 1.0 / 64) < 1e-9 && fabs(p->p.uv_a[0] - 0.375) < 1e-9 &&
+                  fabs(p->p.uv_a[1] - 0.5) < 1e-9,
+              "contact at (%g, %g, %g), uv (%g, %g)", p->p.xyz[0], p->p.xyz[1], p->p.xyz[2],
+              p->p.uv_a[0], p->p.uv_a[1]);
+    }
+    cb_ssi_result_clear(r);
+    cb_nurbs_surface_clear(a);
+    cb_nurbs_surface_clear(b);
+}
+
 /* A rational bicubic (weight 2 at one inner control point, a bump) against a tilted plane
  * above its flat part: one closed curve around the bump, by the subdivision route, every point
  * on both. */
@@ -448,12 +493,19 @@ static void test_rational(void)
     cb_ssi_opts o;
     cb_ssi_opts_default(&o);
     cb_ssi_result_t r;
-    run(r, a, b, &o, "rational x bicubic");
-    CHECK(r->n_failed == 0 && r->status == CB_OK && r->n_curves == 1 && r->curve[0].closed &&
-              r->pairs_subdivided == 1,
-          "failures %ld status %d curves %ld", (long)r->n_failed, r->status, (long)r->n_curves);
-    CHECK(max_dist(r, a, b) <= 1e-7, "rational: distance to the surfaces %g", max_dist(r, a, b));
-    cb_ssi_result_clear(r);
+    /* The plane's patch is implicitised (phi of degree 3), or, with max_phi_degree 1, the
+     * pair takes the subdivision route: one closed curve either way. */
+    for (int route = 0; route < 2; route++) {
+        o.max_phi_degree = route ? 1 : 12;
+        run(r, a, b, &o, route ? "rational x bicubic, subdivision" : "rational x bicubic");
+        CHECK(r->n_failed == 0 && r->status == CB_OK && r->n_curves == 1 &&
+                  r->curve[0].closed && r->pairs_subdivided == route,
+              "route %d: failures %ld status %d curves %ld subdivided %ld", route,
+              (long)r->n_failed, r->status, (long)r->n_curves, (long)r->pairs_subdivided);
+        CHECK(max_dist(r, a, b) <= 1e-7, "rational: distance to the surfaces %g",
+              max_dist(r, a, b));
+        cb_ssi_result_clear(r);
+    }
     cb_nurbs_surface_clear(a);
     cb_nurbs_surface_clear(b);
 }
@@ -589,6 +641,7 @@ int main(void)
     test_cylinders();
     test_small_loop();
     test_rational();
+    test_touch_exact();
     test_coincident();
     test_hummingbird();
     test_fallback();
