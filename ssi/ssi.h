@@ -404,8 +404,9 @@ cb_ssi_coincident *_cb_ssi_add_coincident(cb_ssi_result_t r, int fa, int fb, int
 cb_status _cb_ssi_add_marks(cb_ssi_result_t r, const cb_ssi_mark *m, slong n);
 
 /* Appends everything s holds to r (curves, points, failures, coincidence records, marks;
- * counters added, distances maxed) and leaves s without them. CB_ERR_NOMEM may have moved part of s
- * (a curve is then in r or in s, never both, so clearing both frees everything once). */
+ * counters added, distances maxed) and leaves s without them. CB_ERR_NOMEM may have moved
+ * part of s (a curve is then in r or in s, never both, so clearing both frees everything
+ * once). */
 cb_status _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s);
 
 /* B-spline faces that are exact rational forms of analytic surfaces (ssi_recog.c).
