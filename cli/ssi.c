@@ -7,13 +7,14 @@
 
 #include "boolean/bool.h"
 #include "cli/commands.h"
+#include "cli/ssi_svg.h"
 #include "io/step.h"
 #include "ssi/ssi.h"
 #include "io/json.h"
 
 static const char SSI_USAGE[] =
-    "usage: colibri ssi A.step B.step [--json OUT.json] [--tol T] [--threads N] [--quiet]\n"
-    "                   [--rotate-b AX AY AZ DEG] [--translate-b X Y Z]\n"
+    "usage: colibri ssi A.step B.step [--json OUT.json] [--svg DIR] [--tol T] [--threads N]\n"
+    "                   [--quiet] [--rotate-b AX AY AZ DEG] [--translate-b X Y Z]\n"
     "\n"
     "Intersects every face of A with every face of B whose boxes overlap, with the\n"
     "topology-guaranteed surface/surface intersection, and prints the counts: curves,\n"
@@ -34,6 +35,10 @@ static const char SSI_USAGE[] =
     "               \"patch_b\", \"status\", \"message\"}]}; a periodic parameter lies in one\n"
     "               period around the face's loops (a loop around a cylinder jumps by the\n"
     "               period at the seam)\n"
+    "  --svg DIR    write DIR/pair_FA_FB.svg (DIR made if missing) for every face pair with\n"
+    "               a curve or point: both parameter domains with the curves, isolated\n"
+    "               points, the certified topology's critical, helping and box-side points,\n"
+    "               knot lines (Bezier patch boundaries) and trimming loops\n"
     "  --tol T      distance of every output point to both surfaces (default 1e-6 times\n"
     "               the diagonal of the models' box)\n"
     "  --threads N  threads for patch pairs (default 0: all hardware threads)\n"
@@ -46,7 +51,7 @@ static const char SSI_USAGE[] =
     "Exit status: 0 every pair was certified, 1 the work failed (numerically or unsupported)\n"
     "or some pair could not be certified, 2 bad usage or a file that cannot be used (missing,\n"
     "unreadable, malformed: the message names file:line and the entity #id), including an\n"
-    "OUT.json that cannot be written.\n";
+    "OUT.json or DIR that cannot be written.\n";
 
 static double wall_s(void)
 {
@@ -123,7 +128,7 @@ static int write_json(const char *path, const cb_ssi_result_t r, double t)
 
 int cb_cli_ssi(int argc, char **argv)
 {
-    const char *files[2] = {NULL, NULL}, *json = NULL;
+    const char *files[2] = {NULL, NULL}, *json = NULL, *svg = NULL;
     int nfiles = 0, quiet = 0, moved;
     cb_cli_move move;
     cb_cli_move_init(&move);
@@ -136,6 +141,8 @@ int cb_cli_ssi(int argc, char **argv)
             return 0;
         } else if (!strcmp(a, "--json") && i + 1 < argc) {
             json = argv[++i];
+        } else if (!strcmp(a, "--svg") && i + 1 < argc) {
+            svg = argv[++i];
         } else if (!strcmp(a, "--tol") && i + 1 < argc) {
             if (cb_cli_tol_arg(&o.tol, argv[++i]))
                 return 2;
@@ -175,6 +182,7 @@ int cb_cli_ssi(int argc, char **argv)
     }
     cb_cli_move_apply(&move, body[1]);
     double t1 = wall_s();
+    o.keep_marks = svg != NULL;
     cb_ssi_result_t r;
     cb_ssi_result_init(r);
     cb_error_clear(&err);
@@ -226,6 +234,10 @@ int cb_cli_ssi(int argc, char **argv)
             rc = 1;
         if (json && !write_json(json, r, t2 - t1))
             rc = 2;
+        if (svg) {
+            int src = cb_cli_ssi_svg(svg, r, body[0], body[1]);
+            rc = src > rc ? src : rc;
+        }
     }
     cb_ssi_result_clear(r);
     cb_topo_body_free(body[0]);

@@ -108,6 +108,8 @@ typedef struct {
     const cb_context *cancel; /* NULL (default), or a context whose cancellation
                                  (cb_context_cancel) cb_ssi_bodies checks before each face
                                  pair: it then stops with CB_ERR_CANCELLED */
+    int keep_marks; /* 0 (default); 1: r->mark gets the vertices of the certified topology
+                       graphs (cb_ssi_mark), for pictures; costs a little memory per pair */
 } cb_ssi_opts;
 
 void cb_ssi_opts_default(cb_ssi_opts *o);
@@ -176,6 +178,24 @@ typedef struct {
     double xyz[3];
 } cb_ssi_coincident;
 
+/* A vertex of the certified topology graph of one patch pair of the algebraic route (see
+ * cb_ctopo_vertex_struct), kept with opts.keep_marks to show what the topology stage decided:
+ * critical points (folds, nodes, cusps), regular points on critical lines (FIBRE), helping
+ * points, points on the patch box's sides and isolated points. The graph lives in the Bezier
+ * patch of the parameterised side Q; uv are that surface's parameters, mapped as the curves'
+ * points are. Pairs of the subdivision route and of the closed forms have no graph and give
+ * no marks; a vertex on a side shared by two patches is listed by each pair that has it. */
+typedef struct {
+    int face_a, face_b;
+    int q_side;   /* the surface whose parameters uv are: 0 A, 1 B */
+    int patch;    /* Q's Bezier patch (cb_nurbs_surface_extract_bezier order); -1 when Q is
+                     an analytic surface's exact rational form (the general route) */
+    cb_ctopo_kind kind;
+    int singular, tangential; /* as in cb_ctopo_vertex_struct */
+    double uv[2];
+    double xyz[3]; /* Q(uv) */
+} cb_ssi_mark;
+
 typedef struct {
     slong n_curves, alloc_curves;
     cb_ssi_curve *curve;
@@ -185,6 +205,8 @@ typedef struct {
     cb_ssi_failure *failed;
     slong n_coincident, alloc_coincident;
     cb_ssi_coincident *coincident;
+    slong n_marks, alloc_marks; /* only with opts.keep_marks; in patch-pair order */
+    cb_ssi_mark *mark;
 
     cb_status status;       /* CB_OK when every patch pair was certified, else the status of
                                the first failure (in pair order), or CB_ERR_NOMEM when that
@@ -378,9 +400,13 @@ cb_status _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong
 cb_ssi_coincident *_cb_ssi_add_coincident(cb_ssi_result_t r, int fa, int fb, int pa, int pb,
                                           int same_normal, const double xyz[3]);
 
-/* Appends everything s holds to r (curves, points, failures, coincidence records; counters
- * added, distances maxed) and leaves s without them. CB_ERR_NOMEM may have moved part of s
- * (a curve is then in r or in s, never both, so clearing both frees everything once). */
+/* Appends n marks to r; CB_ERR_NOMEM leaves r as it was. */
+cb_status _cb_ssi_add_marks(cb_ssi_result_t r, const cb_ssi_mark *m, slong n);
+
+/* Appends everything s holds to r (curves, points, failures, coincidence records, marks;
+ * counters added, distances maxed) and leaves s without them. CB_ERR_NOMEM may have moved
+ * part of s (a curve is then in r or in s, never both, so clearing both frees everything
+ * once). */
 cb_status _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s);
 
 /* B-spline faces that are exact rational forms of analytic surfaces (ssi_recog.c).

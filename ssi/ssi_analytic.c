@@ -1031,8 +1031,9 @@ static int param_degree(const cb_analytic_surface *a)
     return a->kind == CB_ANALYTIC_PLANE ? 1 : 2;
 }
 
-/* The side converted to NURBS (1: B) gets its own parameters back: each output point inverted
- * onto the analytic surface; patch indices of that side become -1. */
+/* The side converted to NURBS (1: B) gets its own parameters back: each output point, and each
+ * mark whose parameters are that side's, inverted onto the analytic surface; patch indices of
+ * that side become -1. */
 static void general_fix(cb_ssi_result_t t, const asurf *q, int side)
 {
     for (slong c = 0; c < t->n_curves; c++)
@@ -1051,6 +1052,13 @@ static void general_fix(cb_ssi_result_t t, const asurf *q, int side)
     }
     for (slong k = 0; k < t->n_coincident; k++)
         *(side ? &t->coincident[k].patch_b : &t->coincident[k].patch_a) = -1;
+    for (slong k = 0; k < t->n_marks; k++) {
+        cb_ssi_mark *m = t->mark + k;
+        if (m->q_side == side) {
+            ainvert(m->uv, q, m->xyz);
+            m->patch = -1;
+        }
+    }
 }
 
 static double surf_dist(const asurf *s, const double uv[2], const double X[3])

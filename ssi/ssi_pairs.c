@@ -39,6 +39,7 @@ void cb_ssi_opts_default(cb_ssi_opts *o)
     o->spline_max_subpairs = 20000;
     o->recognise = 1;
     o->cancel = NULL;
+    o->keep_marks = 0;
 }
 
 static double now_s(void)
@@ -264,6 +265,8 @@ typedef struct {
     double cxyz[3], cdist;       /* cdist: distance of cxyz from P's patch */
     _cb_ssi_spline_stats sst;
     _cb_ssi_piece_set pieces;
+    slong n_marks;
+    cb_ssi_mark *marks; /* opts.keep_marks: the graph's vertices; faces and side set later */
     double t_topo, t_trace;
 } pair_job;
 
@@ -532,6 +535,30 @@ static void spline_run(pair_job *J, const pair_ctx *c)
     _cb_ssi_bez_clear(&Q);
 }
 
+/* The vertices of T (coordinates refined) as marks in Q's surface parameters. */
+static cb_status job_marks(pair_job *J, const cb_ctopo_t T, const _cb_ssi_pair_geom *g,
+                           int patch)
+{
+    if (T->n_vertices == 0)
+        return CB_OK;
+    J->marks = malloc((size_t)T->n_vertices * sizeof(cb_ssi_mark));
+    if (!J->marks)
+        return CB_ERR_NOMEM;
+    J->n_marks = T->n_vertices;
+    for (slong k = 0; k < T->n_vertices; k++) {
+        const cb_ctopo_vertex_struct *v = T->vertex + k;
+        cb_ssi_mark *m = J->marks + k;
+        memset(m, 0, sizeof *m);
+        m->patch = patch;
+        m->kind = v->kind;
+        m->singular = v->singular;
+        m->tangential = v->tangential;
+        cb_dixon_patch_to_domain(m->uv, m->uv + 1, g->q, v->s, v->t);
+        _cb_ssi_lift(m->xyz, g, v->s, v->t);
+    }
+    return CB_OK;
+}
+
 static void pair_run(pair_job *J, const pair_ctx *c)
 {
     double t0 = now_s();
@@ -631,8 +658,11 @@ static void pair_run(pair_job *J, const pair_ctx *c)
         J->st = _cb_ssi_sqf_set(&h, mp, ctx);
         if (J->st == CB_OK) {
             _cb_ssi_vertex_refine(T, &h);
-            J->st = _cb_ssi_trace(&ts, T, &h, _cb_ssi_lift, &g, g.chord, g.max_seg);
+            if (c->opts->keep_marks)
+                J->st = job_marks(J, T, &g, J->iq);
         }
+        if (J->st == CB_OK)
+            J->st = _cb_ssi_trace(&ts, T, &h, _cb_ssi_lift, &g, g.chord, g.max_seg);
         if (J->st == CB_OK)
             J->st = _cb_ssi_clip(&J->pieces, &ts, &g);
         if (J->st != CB_OK) {
@@ -1064,6 +1094,18 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
             if (!J->spline)
                 to_domains(&J->pieces, P ? P[J->ip].dp : NULL, Ps, Q + J->iq);
             sets[k] = J->pieces;
+            if (J->st == CB_OK && !J->spline && J->n_marks > 0) {
+                for (slong i = 0; i < J->n_marks; i++) {
+                    J->marks[i].face_a = fa;
+                    J->marks[i].face_b = fb;
+                    J->marks[i].q_side = !swapped;
+                }
+                if (_cb_ssi_add_marks(r, J->marks, J->n_marks) != CB_OK) {
+                    st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory recording the "
+                                      "topology marks");
+                    break;
+                }
+            }
         }
         if (st == CB_OK && n_coinc > 0) {
             const pair_job *J = job + first_coinc;
@@ -1097,8 +1139,10 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
         for (slong q = q0; q < r->n_points; q++)
             measure(r, A, B, &r->point[q].p);
     }
-    for (slong k = 0; k < nj; k++)
+    for (slong k = 0; k < nj; k++) {
         _cb_ssi_piece_set_clear(&job[k].pieces);
+        free(job[k].marks);
+    }
     free(job);
     if (P) {
         for (int i = 0; i < np; i++) {

@@ -19,7 +19,23 @@ void cb_ssi_result_clear(cb_ssi_result_t r)
     free(r->point);
     free(r->failed);
     free(r->coincident);
+    free(r->mark);
     cb_ssi_result_init(r);
+}
+
+cb_status _cb_ssi_add_marks(cb_ssi_result_t r, const cb_ssi_mark *m, slong n)
+{
+    if (r->n_marks + n > r->alloc_marks) {
+        slong alloc = FLINT_MAX(2 * r->alloc_marks, r->n_marks + n);
+        cb_ssi_mark *q = realloc(r->mark, (size_t)alloc * sizeof(*q));
+        if (!q)
+            return CB_ERR_NOMEM;
+        r->mark = q;
+        r->alloc_marks = alloc;
+    }
+    memcpy(r->mark + r->n_marks, m, (size_t)n * sizeof(*m));
+    r->n_marks += n;
+    return CB_OK;
 }
 
 cb_status _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s)
@@ -70,6 +86,9 @@ cb_status _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s)
         *d = *c;
     }
     s->n_coincident = 0;
+    if (s->n_marks && _cb_ssi_add_marks(r, s->mark, s->n_marks) != CB_OK)
+        return CB_ERR_NOMEM;
+    s->n_marks = 0;
     r->pairs_total += s->pairs_total;
     r->pairs_culled += s->pairs_culled;
     r->pairs_empty += s->pairs_empty;

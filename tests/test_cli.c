@@ -2,8 +2,10 @@
  * Exit status: 0 success, 1 a negative verdict (invalid model, failed check), 2 bad usage or an
  * input that cannot be used. Also: `colibri info`'s volume and area against Open CASCADE's
  * figures; `colibri model cardan`'s files read back against the closed-form volumes and its
- * reference table against models/reference.json; the --quiet and --threads flags of ssi. */
+ * reference table against models/reference.json; the --quiet and --threads flags of ssi, and
+ * its --svg pictures against its --json output. */
 #define _POSIX_C_SOURCE 200809L
+#include <dirent.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -499,6 +501,155 @@ static void test_ssi_flags(void)
     remove(b);
 }
 
+/* A face pair of `colibri ssi --json`: its curves and their points. */
+typedef struct {
+    int fa, fb, curves;
+    long points;
+} svg_pair;
+
+/* The face pairs of the branches in an ssi JSON text (curves only: the scenario below has no
+ * isolated points); returns how many, at most max. */
+static int json_pairs(svg_pair *out, int max, const char *json)
+{
+    int n = 0;
+    for (const char *at = strstr(json, "{\"face_a\": "); at && n < max;
+         at = strstr(at + 1, "{\"face_a\": ")) {
+        int fa, fb;
+        char kind[16];
+        if (sscanf(at, "{\"face_a\": %d, \"face_b\": %d, \"kind\": \"%15[a-z]\"", &fa, &fb,
+                   kind) != 3)
+            break;
+        const char *uv = strstr(at, "\"uv_a\": ["), *end = uv ? strstr(uv, "]]") : NULL;
+        long pts = 0;
+        for (const char *c = uv ? uv + strlen("\"uv_a\": [") : end; c && c < end; c++)
+            pts += *c == '[';
+        int k = 0;
+        while (k < n && (out[k].fa != fa || out[k].fb != fb))
+            k++;
+        if (k == n)
+            out[n++] = (svg_pair){fa, fb, 0, 0};
+        out[k].curves += !strcmp(kind, "curve");
+        out[k].points += pts;
+    }
+    return n;
+}
+
+/* In text[0, len): the curve polylines and their points; the x coordinates of the curve
+ * points that are strict local extrema along their polyline (folds in u) with no critical
+ * mark within 2 pixels are counted in *unmarked, the extrema in *folds. */
+static void svg_curves(const char *text, size_t len, int *polylines, long *points, int *folds,
+                       int *unmarked)
+{
+    static double x[1 << 16], y[1 << 16];
+    const char *end = text + len;
+    *polylines = *folds = *unmarked = 0;
+    *points = 0;
+    for (const char *at = strstr(text, "<polyline class=\"curve\""); at && at < end;
+         at = strstr(at + 1, "<polyline class=\"curve\"")) {
+        (*polylines)++;
+        const char *p = strstr(at, "points=\"") + 8;
+        int n = 0, used;
+        while (n < (1 << 16) && sscanf(p, "%lf,%lf%n", x + n, y + n, &used) == 2) {
+            n++;
+            p += used;
+        }
+        *points += n;
+        for (int i = 1; i + 1 < n; i++) {
+            double a = x[i] - x[i - 1], b = x[i] - x[i + 1];
+            if (!((a > 0.05 && b > 0.05) || (a < -0.05 && b < -0.05)))
+                continue;
+            (*folds)++;
+            int marked = 0;
+            for (const char *m = strstr(text, "<rect class=\"critical\""); m && m < end && !marked;
+                 m = strstr(m + 1, "<rect class=\"critical\"")) {
+                double mx, my;
+                if (sscanf(m, "<rect class=\"critical\" x=\"%lf\" y=\"%lf\"", &mx, &my) == 2)
+                    marked = hypot(mx + 4 - x[i], my + 4 - y[i]) <= 2;
+            }
+            *unmarked += !marked;
+        }
+    }
+}
+
+/* ssi --svg: one picture per face pair with output in the --json, each a whole SVG document
+ * whose two panels draw every point of the pair's curves exactly once (a curve may be broken
+ * where an angle wraps round, never less than one polyline per curve); on the parameterised
+ * side (B: the analytic cross is implicitised) every fold of a curve in u carries a critical
+ * mark, and critical marks appear somewhere. The cross's cylinders against the bird's bicubic
+ * faces take the algebraic route, whose topology graphs the marks come from. A --svg path that
+ * is a regular file is refused with exit 2. */
+static void test_ssi_svg(void)
+{
+    char a[128], b[128], json[128], dir[128], args[1200];
+    snprintf(a, sizeof a, "/tmp/colibri_cli_svg_%ld_a.step", (long)getpid());
+    snprintf(b, sizeof b, "/tmp/colibri_cli_svg_%ld_b.step", (long)getpid());
+    snprintf(json, sizeof json, "/tmp/colibri_cli_svg_%ld.json", (long)getpid());
+    snprintf(dir, sizeof dir, "/tmp/colibri_cli_svg_%ld", (long)getpid());
+    snprintf(args, sizeof args, "model cardan cross -o %s", a);
+    cli_expect(args, 0, "valid");
+    snprintf(args, sizeof args, "model hummingbird -o %s --scale 2 --rotate 0 0 1 20", b);
+    cli_expect(args, 0, "valid");
+    snprintf(args, sizeof args, "ssi %s %s --quiet --json %s --svg %s", a, b, json, dir);
+    int code = cli_run(args);
+    CHECK(code == 0, "%s: exit %d:\n%s", args, code, cli_out);
+    char *text = slurp(json);
+    static svg_pair pairs[1024];
+    int np = text ? json_pairs(pairs, 1024, text) : 0;
+    free(text);
+    CHECK(np > 0, "%s: no face pairs in the JSON", args);
+    int files = 0;
+    DIR *d = opendir(dir);
+    CHECK(d != NULL, "%s: no directory %s", args, dir);
+    for (struct dirent *e; d && (e = readdir(d));)
+        files += strstr(e->d_name, ".svg") != NULL;
+    if (d)
+        closedir(d);
+    CHECK(files == np, "%s: %d pictures for %d face pairs", args, files, np);
+    int with_critical = 0, folds = 0;
+    for (int k = 0; k < np; k++) {
+        char path[256];
+        snprintf(path, sizeof path, "%s/pair_%d_%d.svg", dir, pairs[k].fa, pairs[k].fb);
+        size_t size;
+        char *svg = slurp_size(path, &size);
+        CHECK(svg != NULL, "%s missing", path);
+        if (!svg)
+            continue;
+        CHECK(!strncmp(svg, "<svg", 4) && size > 8 && !strcmp(svg + size - 7, "</svg>\n"),
+              "%s: not a whole SVG document", path);
+        const char *pb = strstr(svg, "<g class=\"panel\" id=\"B\">");
+        CHECK(pb != NULL, "%s: no panel B", path);
+        if (!pb) {
+            free(svg);
+            continue;
+        }
+        for (int side = 0; side < 2; side++) {
+            const char *from = side ? pb : svg;
+            size_t len = side ? size - (size_t)(pb - svg) : (size_t)(pb - svg);
+            int lines, f, unmarked;
+            long points;
+            svg_curves(from, len, &lines, &points, &f, &unmarked);
+            CHECK(lines >= pairs[k].curves && points == pairs[k].points,
+                  "%s panel %c: %d curve polylines of %ld points, the JSON has %d curves of "
+                  "%ld points",
+                  path, side ? 'B' : 'A', lines, points, pairs[k].curves, pairs[k].points);
+            CHECK(!side || unmarked == 0, "%s: %d of %d folds of B's curves lack a critical "
+                  "mark", path, unmarked, f);
+            folds += side * f;
+        }
+        with_critical += strstr(svg, "<rect class=\"critical\"") != NULL;
+        free(svg);
+        remove(path);
+    }
+    CHECK(with_critical > 0 && folds > 0, "%s: %d pictures with critical marks, %d folds",
+          args, with_critical, folds);
+    rmdir(dir);
+    snprintf(args, sizeof args, "ssi %s %s --quiet --svg %s", a, b, json);
+    cli_expect(args, 2, "exists and is not a directory");
+    remove(json);
+    remove(a);
+    remove(b);
+}
+
 int main(void)
 {
     const char *shared = getenv("COLIBRI_SHARED");
@@ -585,5 +736,6 @@ int main(void)
     test_info_mass(sh);
     test_model_cardan();
     test_ssi_flags();
+    test_ssi_svg();
     return check_report("cli");
 }
