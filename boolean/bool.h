@@ -168,8 +168,8 @@ double cb_bool_cut_project(double *pos, const cb_bool_cut *c, const double p[3],
  * (their normals within 1e-6 rad) the central difference of the points; in (u, v) the least
  * squares solution of J duv = dir (J the surface Jacobian), or the central difference where J
  * is singular (a pole). Cut ends within CB_BOOL_WELD tol of an earlier cut's end are moved
- * onto it (curves meeting at a node, computed from two face pairs), their parameters found
- * again by inversion. Errors: CB_ERR_INVALID for tol, CB_ERR_NOMEM (out is then cleared). */
+ * onto it (curves meeting at a node, computed from two face pairs; never both ends of one cut
+ * onto one point), their parameters found again by inversion. Errors: CB_ERR_INVALID for tol, CB_ERR_NOMEM (out is then cleared). */
 cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
                             const cb_bool_solid *A, const cb_bool_solid *B, double tol,
                             cb_error *err);

@@ -593,8 +593,11 @@ static void snap_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_s
                     continue;
                 for (int f = 0; f < 2 && !to; f++) {
                     const double *y = d->xyz + 3 * (f ? d->n - 1 : 0);
+                    const double *other = c->xyz + 3 * (e ? 0 : c->n - 1);
                     double g[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
-                    if (norm3(g) <= weld && norm3(g) > 0)
+                    /* A cut shorter than weld keeps its ends apart: both on one node would
+                     * fold it onto itself. */
+                    if (norm3(g) <= weld && norm3(g) > 0 && memcmp(y, other, 3 * sizeof *y))
                         to = y;
                 }
             }
