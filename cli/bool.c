@@ -121,7 +121,7 @@ static int finish(report *rep, cb_topo_body *res, const char *out, int quiet, cb
     cb_cli_result *r = &rep->r;
     cb_cli_result_check(r, res, mesh, ctx);
     snprintf(rep->message, sizeof rep->message, "%s", r->message);
-    int code = r->valid ? 0 : 1;
+    int code = r->valid && r->mesh_ok ? 0 : 1;
     cb_status st = CB_OK;
     int step = has_extension(out, "step") || has_extension(out, "stp");
     if (step && res->n_faces == 0)
@@ -151,7 +151,7 @@ static int finish(report *rep, cb_topo_body *res, const char *out, int quiet, cb
                    : r->self_intersections ? "yes"
                                            : "none",
                    r->mesh_volume);
-        if (!r->valid || r->touching)
+        if (!r->valid || !r->mesh_ok || r->touching)
             printf("%s\n", r->message);
     }
     return code;

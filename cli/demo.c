@@ -96,12 +96,6 @@ static void run_op(tally *t, const cb_model_scenario *L, int opk, const char *di
     double ref = L->ref[opk], dv = r.volume - ref;
     double rel = ref != 0 ? fabs(dv) / fabs(ref) : fabs(dv);
     int in_bar = fabs(dv) <= L->bar[opk];
-    int mesh_ok = r.mesh_done && r.closed &&
-                  ((r.manifold && r.self_intersections == 0) || r.touching);
-    char mesh_why[64];
-    snprintf(mesh_why, sizeof mesh_why, r.crossing ? "mesh crosses itself (%d pairs of triangles)"
-                                                   : "mesh check failed",
-             r.crossing);
     char mesh_txt[32];
     if (!r.mesh_done)
         snprintf(mesh_txt, sizeof mesh_txt, "not made");
@@ -110,10 +104,9 @@ static void run_op(tally *t, const cb_model_scenario *L, int opk, const char *di
     else
         snprintf(mesh_txt, sizeof mesh_txt, "%s%s%s", r.closed ? "C" : "-", r.manifold ? "M" : "-",
                  r.self_intersections == 0 ? "S" : r.self_intersections < 0 ? "?" : "x");
-    const char *why = !r.valid ? r.message
-                      : !mesh_ok ? mesh_why
-                      : !in_bar  ? "volume outside the error bar"
-                                 : NULL;
+    const char *why = !r.valid || !r.mesh_ok ? r.message
+                      : !in_bar                ? "volume outside the error bar"
+                                               : NULL;
     if (r.mesh_done && r.triangles > 0 && write_outputs(dir, L->name, op, mesh, &err) && !why)
         why = err.msg;
     const char *note = why                           ? why

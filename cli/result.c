@@ -37,14 +37,14 @@ void cb_cli_result_check(cb_cli_result *r, cb_topo_body *res, cb_mesh_t mesh,
     if (res->n_faces == 0) {
         /* The empty solid (disjoint or touching operands): nothing to mesh, nothing wrong. */
         cb_mesh_clear(mesh);
-        r->mesh_done = r->closed = r->manifold = 1;
+        r->mesh_done = r->closed = r->manifold = r->mesh_ok = 1;
         r->mesh_volume = 0;
         return;
     }
     if (ctx)
         cb_context_progress_reset(ctx);
     st = cb_tess_body(mesh, res, NULL, ctx, &err);
-    cb_mesh_check_report cr;
+    cb_mesh_check_report cr = {0};
     if (!st)
         st = cb_mesh_check(&cr, mesh, &err);
     if (!st) {
@@ -78,5 +78,24 @@ void cb_cli_result_check(cb_cli_result *r, cb_topo_body *res, cb_mesh_t mesh,
         } else if (!st) {
             r->crossing = c.crossing;
         }
+    }
+    /* A mesh that is open, or meets itself where the result does not only touch itself, is
+     * no picture of a solid. */
+    r->mesh_ok = r->mesh_done && r->closed &&
+                 ((r->manifold && r->self_intersections == 0) || r->touching);
+    if (r->valid && !r->mesh_ok) {
+        if (!r->closed)
+            snprintf(r->message, sizeof r->message,
+                     "mesh not closed: %d edges of one triangle, %d of three or more",
+                     cr.boundary_edges, cr.nonmanifold_edges);
+        else if (r->crossing)
+            snprintf(r->message, sizeof r->message,
+                     "mesh crosses itself: %d pairs of triangles", r->crossing);
+        else
+            snprintf(r->message, sizeof r->message,
+                     "mesh meets itself (%d edges of three or more triangles, %d vertices of "
+                     "several fans, CGAL self-intersection %d) and the contacts were not "
+                     "proved touching",
+                     cr.nonmanifold_edges, cr.nonmanifold_vertices, cr.self_intersections);
     }
 }

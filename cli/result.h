@@ -8,7 +8,10 @@
 
 typedef struct {
     int valid;                          /* validator clean, volume and mesh computed */
-    char message[CB_ERROR_MSG_LEN + 32]; /* why not valid ("" when valid) */
+    int mesh_ok;                        /* the mesh closed, manifold and free of
+                                           self-intersections, or touching */
+    char message[CB_ERROR_MSG_LEN + 32]; /* why not valid, else why the mesh is not ok
+                                            ("" when both hold) */
     double volume, area;                /* B-rep integration (NAN when it failed) */
     int solids, faces;
     int mesh_done;                      /* the fields below are set */
@@ -28,7 +31,9 @@ typedef struct {
  * self-intersections) with every pair of triangles that meet touching, none crossing
  * (cb_mesh_check_contacts within the result's tolerance), is marked touching, with a message
  * saying so: it touches itself, or its solids touch each other, along curves or at points (a
- * union of operands that touch: not a manifold solid there, as the exact result is not). */
+ * union of operands that touch: not a manifold solid there, as the exact result is not). A
+ * mesh that is open, or meets itself otherwise, is not ok (r->mesh_ok = 0, the reason in
+ * r->message; crossing triangle pairs counted in r->crossing): a result to report as failed. */
 void cb_cli_result_check(cb_cli_result *r, cb_topo_body *res, cb_mesh_t mesh,
                          cb_context *ctx);
 

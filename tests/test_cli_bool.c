@@ -265,6 +265,37 @@ static void test_move(void)
     cli_expect(args, 2, "the axis is zero");
 }
 
+/* The verdict follows the mesh: for the crosses side by side (lines tangent to circles on the
+ * cube faces; three solids touching at points in the difference), each operation exits 0 with
+ * status "ok" exactly when its mesh is closed, manifold and free of self-intersections, or the
+ * report says the result only touches itself; otherwise 1 with status "error" and a message
+ * naming the mesh, while "valid" keeps telling the B-rep's own validity. */
+static void test_mesh_verdict(void)
+{
+    static const char *const ops[3] = {"union", "intersection", "difference"};
+    char c[600], out[600], json[600], args[3000];
+    snprintf(args, sizeof args, "model cardan cross -o %s", at(c, sizeof c, "cross.step"));
+    cli_expect(args, 0, "");
+    for (int k = 0; k < 3; k++) {
+        snprintf(args, sizeof args, "bool %s %s %s --translate-b 1 1 0 -o %s --json %s --quiet",
+                 ops[k], c, c, at(out, sizeof out, "side.stl"),
+                 at(json, sizeof json, "side.json"));
+        int code = cli_run(args);
+        const char *text = slurp(json);
+        const char *mesh = text ? strstr(text, "\"mesh\": {") : NULL;
+        CHECK(mesh != NULL, "%s: no mesh in the report: %s", ops[k], text ? text : "(none)");
+        if (mesh) {
+            int good = strstr(mesh, "\"closed\": true") && strstr(mesh, "\"manifold\": true") &&
+                       strstr(mesh, "\"self_intersections\": 0");
+            int touching = strstr(text, "touch") != NULL;
+            int ok = strstr(text, "\"status\": \"ok\"") != NULL;
+            CHECK(ok == (code == 0) && ok == (good || touching) && strstr(text, "\"valid\": true") &&
+                      (ok || strstr(text, "\"message\": \"mesh")),
+                  "%s: exit %d, report %s", ops[k], code, text);
+        }
+    }
+}
+
 int main(void)
 {
     const char *tmp = getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp";
@@ -278,6 +309,7 @@ int main(void)
     test_unsupported();
     test_empty();
     test_move();
+    test_mesh_verdict();
     test_demo();
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0)
