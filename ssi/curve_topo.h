@@ -20,6 +20,7 @@
 #include <flint/fmpq.h>
 #include <flint/fmpz_mpoly.h>
 #include <flint/fmpz_poly.h>
+#include <flint/fmpz_poly_mat.h>
 
 #include "brep/status.h"
 #include "ssi/roots.h"
@@ -65,6 +66,19 @@ void cb_bipoly_eval_t_fmpq(fmpz_poly_t out, const cb_bipoly_struct *p, const fmp
  * in ball arithmetic at precision prec). */
 void cb_bipoly_eval_arb(arb_t y, const cb_bipoly_struct *p, const arb_t s, const arb_t t,
                         slong prec);
+
+/* r(s) = Res_t(f, g), the determinant of the Sylvester matrix with the formal degrees
+ * f->len - 1 and g->len - 1 (0 if f or g is zero; c^n for f = c constant in t and g of degree
+ * n, likewise for g; 1 for two constants). Exact, by evaluation at s = 0, 1, ... modulo
+ * primes above 2^62 (points where a leading coefficient in t vanishes skipped), interpolation
+ * and Chinese remaindering, over as many primes as a proved coefficient bound requires
+ * (ssi/README.md). CB_ERR_INVALID if f or g is not normalised (zero leading coefficient). */
+cb_status cb_bipoly_resultant(fmpz_poly_t r, const cb_bipoly_struct *f, const cb_bipoly_struct *g,
+                              cb_error *err);
+
+/* d = det A for a square matrix over Z[s] (1 for 0 x 0), exactly, by the same scheme as
+ * cb_bipoly_resultant (nmod_mat_det at each point). CB_ERR_INVALID if A is not square. */
+cb_status cb_fmpz_poly_mat_det(fmpz_poly_t d, const fmpz_poly_mat_t A, cb_error *err);
 
 /* ------------------------------------------------------------ real algebraic numbers ------ */
 
