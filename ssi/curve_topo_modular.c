@@ -10,19 +10,27 @@
 #include <flint/nmod_poly.h>
 #include <flint/ulong_extras.h>
 
-/* Primes just above 2^62: word-size for nmod arithmetic, and so far above any evaluation
- * point or degree met here that points never collide modulo p. */
-#define CB_MODULAR_PRIME_START (UWORD(1) << 62)
+/* Primes just above 2^59: word-size for nmod arithmetic, far above any evaluation point or
+ * degree met here (points never collide modulo p), and small enough that nmod_mat's dot
+ * products of up to 1024 terms accumulate in two limbs (at 2^62 it takes three, 1.5 times
+ * slower determinants). */
+#define CB_MODULAR_PRIME_START (UWORD(1) << 59)
 
-static void add_norm1_sqr(fmpz_t acc, const fmpz_poly_t p)
+static void norm1(fmpz_t n, const fmpz_poly_t p)
 {
-    fmpz_t n;
-    fmpz_init(n);
+    fmpz_zero(n);
     for (slong i = 0; i < p->length; i++)
         if (fmpz_sgn(p->coeffs + i) >= 0)
             fmpz_add(n, n, p->coeffs + i);
         else
             fmpz_sub(n, n, p->coeffs + i);
+}
+
+static void add_norm1_sqr(fmpz_t acc, const fmpz_poly_t p)
+{
+    fmpz_t n;
+    fmpz_init(n);
+    norm1(n, p);
     fmpz_addmul(acc, n, n);
     fmpz_clear(n);
 }
@@ -155,26 +163,33 @@ cb_status cb_bipoly_resultant(fmpz_poly_t r, const cb_bipoly_struct *f, const cb
     return CB_OK;
 }
 
-cb_status cb_fmpz_poly_mat_det(fmpz_poly_t d, const fmpz_poly_mat_t A, cb_error *err)
+void cb_bipoly_resultant_dt(fmpz_poly_t r, const cb_bipoly_struct *p)
 {
-    slong size = fmpz_poly_mat_nrows(A);
-    if (fmpz_poly_mat_ncols(A) != size)
-        return cb_error_set(err, CB_ERR_INVALID, "determinant: %ld x %ld matrix is not square",
-                            (long)size, (long)fmpz_poly_mat_ncols(A));
-    if (size == 0) {
-        fmpz_poly_one(d);
-        return CB_OK;
-    }
-    /* Degree: each term of the expansion takes one entry per row. */
-    fmpz *sq = _fmpz_vec_init(size);
+    cb_bipoly_t pt;
+    cb_bipoly_init(pt);
+    cb_bipoly_derivative_t(pt, p);
+    (void)cb_bipoly_resultant(r, p, pt, NULL);
+    cb_bipoly_clear(pt);
+}
+
+void _cb_fmpz_poly_mat_det_indexed(fmpz_poly_t d, const fmpz_poly_struct *poly, slong npoly,
+                                   const slong *idx, slong size)
+{
+    fmpz *norm = _fmpz_vec_init(npoly), *sq = _fmpz_vec_init(size);
     slong *mult = flint_malloc((size_t)size * sizeof *mult);
+    for (slong k = 0; k < npoly; k++)
+        norm1(norm + k, poly + k);
+    /* Degree: each term of the expansion takes one entry per row. */
     slong npts = 1;
     int zero_row = 0;
     for (slong i = 0; i < size; i++) {
         slong deg = -1;
         for (slong j = 0; j < size; j++) {
-            add_norm1_sqr(sq + i, fmpz_poly_mat_entry(A, i, j));
-            deg = FLINT_MAX(deg, fmpz_poly_degree(fmpz_poly_mat_entry(A, i, j)));
+            slong k = idx[i * size + j];
+            if (k < 0)
+                continue;
+            fmpz_addmul(sq + i, norm + k, norm + k);
+            deg = FLINT_MAX(deg, fmpz_poly_degree(poly + k));
         }
         mult[i] = 1;
         zero_row |= deg < 0;
@@ -183,13 +198,14 @@ cb_status cb_fmpz_poly_mat_det(fmpz_poly_t d, const fmpz_poly_mat_t A, cb_error 
     flint_bitcnt_t bits = bound_bits(sq, mult, size);
     flint_free(mult);
     _fmpz_vec_clear(sq, size);
+    _fmpz_vec_clear(norm, npoly);
     if (zero_row) {
         fmpz_poly_zero(d);
-        return CB_OK;
+        return;
     }
 
-    nmod_poly_struct *ep = flint_malloc((size_t)(size * size) * sizeof *ep);
-    mp_ptr xs = _nmod_vec_init(npts), ys = _nmod_vec_init(npts);
+    nmod_poly_struct *pp = flint_malloc((size_t)npoly * sizeof *pp);
+    mp_ptr xs = _nmod_vec_init(npts), ys = _nmod_vec_init(npts), ev = _nmod_vec_init(npoly);
     nmod_mat_t E;
     nmod_poly_t rp;
     fmpz_t M;
@@ -203,25 +219,50 @@ cb_status cb_fmpz_poly_mat_det(fmpz_poly_t d, const fmpz_poly_mat_t A, cb_error 
         p = n_nextprime(p, 1);
         nmod_mat_init(E, size, size, p);
         nmod_poly_init(rp, p);
-        for (slong i = 0; i < size * size; i++) {
-            nmod_poly_init(ep + i, p);
-            fmpz_poly_get_nmod_poly(ep + i, fmpz_poly_mat_entry(A, i / size, i % size));
+        for (slong k = 0; k < npoly; k++) {
+            nmod_poly_init(pp + k, p);
+            fmpz_poly_get_nmod_poly(pp + k, poly + k);
         }
-        for (slong k = 0; k < npts; k++) {
+        for (slong x = 0; x < npts; x++) {
+            /* Each distinct polynomial once: a Sylvester matrix repeats its entries. */
+            for (slong k = 0; k < npoly; k++)
+                ev[k] = nmod_poly_evaluate_nmod(pp + k, xs[x]);
             for (slong i = 0; i < size * size; i++)
-                nmod_mat_entry(E, i / size, i % size) = nmod_poly_evaluate_nmod(ep + i, xs[k]);
-            ys[k] = _nmod_mat_det(E); /* destroys E; refilled at the next point */
+                nmod_mat_entry(E, i / size, i % size) = idx[i] < 0 ? 0 : ev[idx[i]];
+            ys[x] = _nmod_mat_det(E); /* destroys E; refilled at the next point */
         }
         nmod_poly_interpolate_nmod_vec_fast(rp, xs, ys, npts);
         crt_step(d, M, rp);
-        for (slong i = 0; i < size * size; i++)
-            nmod_poly_clear(ep + i);
+        for (slong k = 0; k < npoly; k++)
+            nmod_poly_clear(pp + k);
         nmod_poly_clear(rp);
         nmod_mat_clear(E);
     }
     fmpz_clear(M);
+    _nmod_vec_clear(ev);
     _nmod_vec_clear(ys);
     _nmod_vec_clear(xs);
-    flint_free(ep);
+    flint_free(pp);
+}
+
+cb_status cb_fmpz_poly_mat_det(fmpz_poly_t d, const fmpz_poly_mat_t A, cb_error *err)
+{
+    slong size = fmpz_poly_mat_nrows(A);
+    if (fmpz_poly_mat_ncols(A) != size)
+        return cb_error_set(err, CB_ERR_INVALID, "determinant: %ld x %ld matrix is not square",
+                            (long)size, (long)fmpz_poly_mat_ncols(A));
+    if (size == 0) {
+        fmpz_poly_one(d);
+        return CB_OK;
+    }
+    fmpz_poly_struct *entry = flint_malloc((size_t)(size * size) * sizeof *entry);
+    slong *idx = flint_malloc((size_t)(size * size) * sizeof *idx);
+    for (slong i = 0; i < size * size; i++) {
+        entry[i] = *fmpz_poly_mat_entry(A, i / size, i % size); /* shallow, read only */
+        idx[i] = fmpz_poly_is_zero(entry + i) ? -1 : i;
+    }
+    _cb_fmpz_poly_mat_det_indexed(d, entry, size * size, idx, size);
+    flint_free(idx);
+    flint_free(entry);
     return CB_OK;
 }
