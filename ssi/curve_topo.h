@@ -70,7 +70,7 @@ void cb_bipoly_eval_arb(arb_t y, const cb_bipoly_struct *p, const arb_t s, const
 /* r(s) = Res_t(f, g), the determinant of the Sylvester matrix with the formal degrees
  * f->len - 1 and g->len - 1 (0 if f or g is zero; c^n for f = c constant in t and g of degree
  * n, likewise for g; 1 for two constants). Exact, by evaluation at s = 0, 1, ... modulo
- * primes above 2^62 (points where a leading coefficient in t vanishes skipped), interpolation
+ * primes above 2^59 (points where a leading coefficient in t vanishes skipped), interpolation
  * and Chinese remaindering, over as many primes as a proved coefficient bound requires
  * (ssi/README.md). CB_ERR_INVALID if f or g is not normalised (zero leading coefficient). */
 cb_status cb_bipoly_resultant(fmpz_poly_t r, const cb_bipoly_struct *f, const cb_bipoly_struct *g,

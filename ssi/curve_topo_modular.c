@@ -12,7 +12,7 @@
 
 /* Primes just above 2^59: word-size for nmod arithmetic, far above any evaluation point or
  * degree met here (points never collide modulo p), and small enough that nmod_mat's dot
- * products of up to 1024 terms accumulate in two limbs (at 2^62 it takes three, 1.5 times
+ * products of up to about 1000 terms accumulate in two limbs (at 2^62 it takes three and
  * slower determinants). */
 #define CB_MODULAR_PRIME_START (UWORD(1) << 59)
 
