@@ -1,12 +1,15 @@
 /* bench_topo — time of the certified curve topology (ssi/curve_topo.h) against the bidegree of
  * phi.
  *
- * Usage: bench_topo [max_degree [coeff_bits]]   (defaults 18 and 16)
- * For d = 6, 12, 16, 18, 24, ... up to max_degree (the bidegrees of phi for a quadric, a torus
- * and a biquadratic patch against a bicubic one, primer section 3): a random dense phi of
- * bidegree (d, d) with coeff_bits-bit coefficients, and a designed one (a product of d/2
- * circles in [0, 1]^2, bidegree (d, d)) whose counts are known from the circles' geometry and
- * checked. Prints the time of the resultant alone and of the whole topology, and the counts.
+ * Usage: bench_topo [max_degree [coeff_bits [max_topology_degree]]]   (defaults 54, 16, 24)
+ * For d = 6, 12, 16, 18, 24, 54 up to max_degree (the bidegrees of phi for a quadric, a torus
+ * and a biquadratic patch against a bicubic one, and two bicubic patches, primer section 3): a
+ * random dense phi of bidegree (d, d) with coeff_bits-bit coefficients, and up to
+ * max_topology_degree a designed one (a product of d/2 circles in [0, 1]^2, bidegree (d, d))
+ * whose counts are known from the circles' geometry and checked. Prints the time of the
+ * modular resultant Res_t(phi, phi_t) the topology uses, of FLINT's fmpz_mpoly_resultant up
+ * to d = 24 (and whether the two agree), and of the whole topology, which is run only up to
+ * max_topology_degree (at (54, 54) it is impractical: cb_ctopo_opts has no time budget).
  * Not a ctest test. */
 #define _POSIX_C_SOURCE 199309L /* clock_gettime under -std=c11 */
 #include <stdio.h>
@@ -103,32 +106,65 @@ static void circles_phi(fmpz_mpoly_t phi, slong n, flint_rand_t state, expected 
         }
 }
 
+/* Res_t(phi, phi_t) by the modular resultant the topology uses and, up to d = 24, by FLINT's
+ * fmpz_mpoly_resultant (checked equal); returns the modular time. */
+static double run_resultant(slong d, const fmpz_mpoly_t phi, const fmpz_mpoly_ctx_t ctx)
+{
+    cb_bipoly_t p, q;
+    fmpz_poly_t res;
+    fmpz_mpoly_t pt, r;
+    cb_bipoly_init(p);
+    cb_bipoly_init(q);
+    fmpz_poly_init(res);
+    fmpz_mpoly_init(pt, ctx);
+    fmpz_mpoly_init(r, ctx);
+    double t0 = now();
+    cb_bipoly_set_fmpz_mpoly(p, phi, ctx);
+    cb_bipoly_resultant_dt(res, p);
+    double t_res = now() - t0;
+    printf("resultant %7.3f s", t_res);
+    if (d <= 24) {
+        t0 = now();
+        fmpz_mpoly_derivative(pt, phi, 1, ctx);
+        fmpz_mpoly_resultant(r, phi, pt, 1, ctx);
+        double t_mpoly = now() - t0;
+        cb_bipoly_set_fmpz_mpoly(q, r, ctx);
+        int same = q->len == 0 ? fmpz_poly_is_zero(res) : fmpz_poly_equal(res, q->c);
+        printf(" (fmpz_mpoly %7.3f s, %s)", t_mpoly, same ? "same" : "DIFFERENT");
+    } else
+        printf(" (fmpz_mpoly not run)        ");
+    fmpz_mpoly_clear(r, ctx);
+    fmpz_mpoly_clear(pt, ctx);
+    fmpz_poly_clear(res);
+    cb_bipoly_clear(q);
+    cb_bipoly_clear(p);
+    return t_res;
+}
+
 /* Returns the total time. */
 static double run(const char *what, slong d, const fmpz_mpoly_t phi, const expected *ex,
-                  const fmpz_mpoly_ctx_t ctx)
+                  slong topo_max, const fmpz_mpoly_ctx_t ctx)
 {
+    printf("%-8s (%2ld,%2ld)  ", what, (long)d, (long)d);
+    double t_res = run_resultant(d, phi, ctx);
+    if (d > topo_max) {
+        printf("  topology not run (d > max_topology_degree %ld)\n", (long)topo_max);
+        fflush(stdout);
+        return t_res;
+    }
     fmpq_t zero, one;
     cb_ctopo_opts opts;
     cb_ctopo_t T;
     cb_error err;
-    fmpz_mpoly_t pt, r;
     fmpq_init(zero);
     fmpq_init(one);
     fmpq_one(one);
-    fmpz_mpoly_init(pt, ctx);
-    fmpz_mpoly_init(r, ctx);
     cb_ctopo_opts_default(&opts);
     cb_ctopo_init(T);
-
     double t0 = now();
-    fmpz_mpoly_derivative(pt, phi, 1, ctx);
-    fmpz_mpoly_resultant(r, phi, pt, 1, ctx);
-    double t_res = now() - t0;
-    t0 = now();
     cb_status st = cb_ctopo_compute(T, phi, ctx, zero, one, zero, one, &opts, &err);
     double t_topo = now() - t0;
-    printf("%-8s (%2ld,%2ld)  resultant %8.3f s  topology %8.3f s  ", what, (long)d, (long)d,
-           t_res, t_topo);
+    printf("  topology %8.3f s  ", t_topo);
     if (st == CB_OK) {
         printf("certified  lines %4ld components %3ld loops %3ld isolated %2ld singular %3ld",
                (long)T->n_lines, (long)T->n_components, (long)T->n_loops, (long)T->n_isolated,
@@ -144,8 +180,6 @@ static double run(const char *what, slong d, const fmpz_mpoly_t phi, const expec
         printf("%s: %s\n", cb_status_name(st), err.msg);
     fflush(stdout);
     cb_ctopo_clear(T);
-    fmpz_mpoly_clear(r, ctx);
-    fmpz_mpoly_clear(pt, ctx);
     fmpq_clear(one);
     fmpq_clear(zero);
     return t_res + t_topo;
@@ -153,9 +187,10 @@ static double run(const char *what, slong d, const fmpz_mpoly_t phi, const expec
 
 int main(int argc, char **argv)
 {
-    slong max_d = argc > 1 ? atol(argv[1]) : 18;
+    slong max_d = argc > 1 ? atol(argv[1]) : 54;
     flint_bitcnt_t bits = argc > 2 ? (flint_bitcnt_t)atol(argv[2]) : 16;
-    static const slong degrees[] = {6, 12, 16, 18, 24, 30, 36, 42, 48, 54};
+    slong topo_max = argc > 3 ? atol(argv[3]) : 24;
+    static const slong degrees[] = {6, 12, 16, 18, 24, 54};
     fmpz_mpoly_ctx_t ctx;
     fmpz_mpoly_t phi;
     flint_rand_t state;
@@ -167,9 +202,11 @@ int main(int argc, char **argv)
     for (size_t i = 0; i < sizeof degrees / sizeof *degrees && degrees[i] <= max_d; i++) {
         slong d = degrees[i];
         random_phi(phi, d, bits, state, ctx);
-        total += run("random", d, phi, NULL, ctx);
+        total += run("random", d, phi, NULL, topo_max, ctx);
+        if (d > topo_max)
+            continue;
         circles_phi(phi, d / 2, state, &ex, ctx);
-        total += run("circles", d, phi, &ex, ctx);
+        total += run("circles", d, phi, &ex, topo_max, ctx);
     }
     printf("total %.3f s\n", total);
     flint_randclear(state);

@@ -173,29 +173,6 @@ static void curve_clear(cb_ctopo_curve_struct *C)
     fmpq_clear(C->t1);
 }
 
-/* Res_t(p, p_t) as a polynomial in s (p of positive degree in t). */
-static void discriminant_res(fmpz_poly_t out, const cb_bipoly_t p, const fmpz_mpoly_ctx_t ctx)
-{
-    fmpz_mpoly_t P, Pt, R;
-    cb_bipoly_t q;
-    fmpz_mpoly_init(P, ctx);
-    fmpz_mpoly_init(Pt, ctx);
-    fmpz_mpoly_init(R, ctx);
-    cb_bipoly_init(q);
-    cb_bipoly_get_fmpz_mpoly(P, p, ctx);
-    fmpz_mpoly_derivative(Pt, P, 1, ctx);
-    fmpz_mpoly_resultant(R, P, Pt, 1, ctx);
-    cb_bipoly_set_fmpz_mpoly(q, R, ctx);
-    if (q->len > 0)
-        fmpz_poly_set(out, q->c);
-    else
-        fmpz_poly_zero(out);
-    cb_bipoly_clear(q);
-    fmpz_mpoly_clear(R, ctx);
-    fmpz_mpoly_clear(Pt, ctx);
-    fmpz_mpoly_clear(P, ctx);
-}
-
 /* p = p / (den t - num) for a rational root num/den of p in t, exactly. */
 static void divide_linear_t(cb_bipoly_t p, const fmpq_t r, const fmpz_mpoly_ctx_t ctx)
 {
@@ -268,7 +245,7 @@ static void curve_prepare(cb_ctopo_curve_struct *C, fmpz_poly_t cont, fmpz_poly_
     cb_bipoly_set_fmpz_mpoly(C->h, H, ctx);
     cb_bipoly_set_fmpz_mpoly(C->rep, G, ctx);
     if (C->rep->len > 1)
-        discriminant_res(C->rep_res, C->rep, ctx);
+        cb_bipoly_resultant_dt(C->rep_res, C->rep);
 
     /* Box sides t = t_i lying on the curve, and the boundary polynomials without them. */
     cb_bipoly_t hb;
@@ -286,7 +263,7 @@ static void curve_prepare(cb_ctopo_curve_struct *C, fmpz_poly_t cont, fmpz_poly_
     cb_bipoly_clear(hb);
     fmpz_poly_set(C->lc, C->h->c + C->h->len - 1);
     if (C->h->len > 1)
-        discriminant_res(C->res, C->h, ctx);
+        cb_bipoly_resultant_dt(C->res, C->h);
     else
         fmpz_poly_one(C->res);
 

@@ -20,6 +20,7 @@
 #include <flint/fmpq.h>
 #include <flint/fmpz_mpoly.h>
 #include <flint/fmpz_poly.h>
+#include <flint/fmpz_poly_mat.h>
 
 #include "brep/status.h"
 #include "ssi/roots.h"
@@ -66,6 +67,27 @@ void cb_bipoly_eval_t_fmpq(fmpz_poly_t out, const cb_bipoly_struct *p, const fmp
 void cb_bipoly_eval_arb(arb_t y, const cb_bipoly_struct *p, const arb_t s, const arb_t t,
                         slong prec);
 
+/* r(s) = Res_t(f, g), the determinant of the Sylvester matrix with the formal degrees
+ * f->len - 1 and g->len - 1 (0 if f or g is zero; c^n for f = c constant in t and g of degree
+ * n, likewise for g; 1 for two constants). Exact, by evaluation at s = 0, 1, ... modulo
+ * primes above 2^59 (points where a leading coefficient in t vanishes skipped), interpolation
+ * and Chinese remaindering, over as many primes as a proved coefficient bound requires
+ * (ssi/README.md). CB_ERR_INVALID if f or g is not normalised (zero leading coefficient). */
+cb_status cb_bipoly_resultant(fmpz_poly_t r, const cb_bipoly_struct *f, const cb_bipoly_struct *g,
+                              cb_error *err);
+
+/* r = Res_t(p, p_t) for a normalised p (cb_bipoly_resultant, which cannot fail then). */
+void cb_bipoly_resultant_dt(fmpz_poly_t r, const cb_bipoly_struct *p);
+
+/* d = det A for a square matrix over Z[s] (1 for 0 x 0), exactly, by the same scheme as
+ * cb_bipoly_resultant (nmod_mat_det at each point). CB_ERR_INVALID if A is not square. */
+cb_status cb_fmpz_poly_mat_det(fmpz_poly_t d, const fmpz_poly_mat_t A, cb_error *err);
+
+/* d = det of the size x size (size >= 1) matrix whose entry (i, j) is poly[idx[i size + j]],
+ * zero where that index is -1; each distinct polynomial is evaluated once per point. */
+void _cb_fmpz_poly_mat_det_indexed(fmpz_poly_t d, const fmpz_poly_struct *poly, slong npoly,
+                                   const slong *idx, slong size);
+
 /* ------------------------------------------------------------ real algebraic numbers ------ */
 
 /* A real algebraic number alpha given by a squarefree r in Z[s] and an isolating interval:
@@ -85,7 +107,7 @@ int cb_ctopo_alg_vanishes(const fmpz_poly_t p, const fmpz_poly_t r, const fmpq_t
  * of t^col in the j-th subresultant. psc_0 is the resultant. At a real alpha where the leading
  * coefficient of h does not vanish, deg gcd(h(alpha, t), h_t(alpha, t)) is the least j with
  * psc_j(alpha) != 0, and that gcd is proportional to sum_i sres_{j,i}(alpha) t^i.
- * Symbolic version (fmpz_poly_mat_det) and ball version at an s-ball (arb_mat_det). */
+ * Symbolic version (cb_fmpz_poly_mat_det) and ball version at an s-ball (arb_mat_det). */
 void cb_ctopo_sres_coeff(fmpz_poly_t out, const cb_bipoly_struct *h, slong j, slong col);
 void cb_ctopo_sres_coeff_arb(arb_t out, const cb_bipoly_struct *h, slong j, slong col,
                              const arb_t s, slong prec);

@@ -3,7 +3,6 @@
 
 #include <arb_fmpz_poly.h>
 #include <arb_mat.h>
-#include <flint/fmpz_poly_mat.h>
 
 static int sign_at(const fmpz_poly_t p, const fmpq_t x)
 {
@@ -59,21 +58,26 @@ void cb_ctopo_sres_coeff(fmpz_poly_t out, const cb_bipoly_struct *h, slong j, sl
     slong size = 2 * n - 1 - 2 * j;
     if (col < 0 || col > j)
         col = j;
-    fmpz_poly_mat_t M;
-    fmpz_poly_mat_init(M, size, size);
+    /* The distinct entries: c_0 .. c_n of h, then c_1 .. n c_n of h_t. */
+    fmpz_poly_struct *poly = flint_malloc((size_t)(2 * n + 1) * sizeof *poly);
+    slong *idx = flint_malloc((size_t)(size * size) * sizeof *idx);
+    for (slong i = 0; i <= n; i++)
+        poly[i] = h->c[i]; /* shallow, read only */
+    for (slong i = 0; i < n; i++) {
+        fmpz_poly_init(poly + n + 1 + i);
+        fmpz_poly_scalar_mul_si(poly + n + 1 + i, h->c + i + 1, i + 1);
+    }
     for (slong row = 0; row < size; row++)
         for (slong c = 0; c < size; c++) {
             int d;
-            slong idx = sres_index(n, j, row, c, col, &d);
-            if (idx < 0)
-                continue;
-            if (d)
-                fmpz_poly_scalar_mul_si(fmpz_poly_mat_entry(M, row, c), h->c + idx + 1, idx + 1);
-            else
-                fmpz_poly_set(fmpz_poly_mat_entry(M, row, c), h->c + idx);
+            slong k = sres_index(n, j, row, c, col, &d);
+            idx[row * size + c] = k < 0 ? -1 : d ? n + 1 + k : k;
         }
-    fmpz_poly_mat_det(out, M);
-    fmpz_poly_mat_clear(M);
+    _cb_fmpz_poly_mat_det_indexed(out, poly, 2 * n + 1, idx, size);
+    for (slong i = n + 1; i < 2 * n + 1; i++)
+        fmpz_poly_clear(poly + i);
+    flint_free(idx);
+    flint_free(poly);
 }
 
 void cb_ctopo_sres_coeff_arb(arb_t out, const cb_bipoly_struct *h, slong j, slong col, const arb_t s,

@@ -638,7 +638,7 @@ static cb_status irrational_facts(line_state *st, cb_error *err)
     /* A fibre of degree < 2 in t (lc_t h vanishing with all but the lowest one or two
      * coefficients) has no multiple root; its subresultants would be empty determinants. */
     if (n >= 2 && top < C->h->len - 1)
-        cb_ctopo_sres_coeff(res, st->hf, 0, 0);
+        cb_bipoly_resultant_dt(res, st->hf); /* psc_0 of hf */
     else if (n >= 2)
         fmpz_poly_set(res, C->res);
     int multiple = n >= 2 && cb_ctopo_alg_vanishes(res, r, lo, hi);

@@ -318,6 +318,193 @@ static void test_subresultant(check_rng *rng)
     fmpz_mpoly_ctx_clear(ctx);
 }
 
+/* A signed integer of at most bits bits, every size equally likely up to bits. */
+static void random_fmpz(fmpz_t c, check_rng *rng, int bits)
+{
+    fmpz_zero(c);
+    for (int b = 0; b < bits; b += 64) {
+        fmpz_mul_2exp(c, c, 64);
+        fmpz_add_ui(c, c, check_rng_next(rng));
+    }
+    fmpz_fdiv_r_2exp(c, c, (ulong)check_rng_int(rng, 0, bits));
+    if (check_rng_next(rng) & 1)
+        fmpz_neg(c, c);
+}
+
+static void random_bipoly(cb_bipoly_struct *f, check_rng *rng, slong ds, slong dt, int bits,
+                          const fmpz_mpoly_ctx_t ctx)
+{
+    fmpz_mpoly_t F;
+    fmpz_t c;
+    fmpz_mpoly_init(F, ctx);
+    fmpz_init(c);
+    for (slong i = 0; i <= ds; i++)
+        for (slong j = 0; j <= dt; j++) {
+            ulong e[2] = {(ulong)i, (ulong)j};
+            random_fmpz(c, rng, bits);
+            /* keep the bidegree (ds, dt) */
+            if (j == dt && i == ds && fmpz_is_zero(c))
+                fmpz_one(c);
+            fmpz_mpoly_set_coeff_fmpz_ui(F, c, e, ctx);
+        }
+    cb_bipoly_set_fmpz_mpoly(f, F, ctx);
+    fmpz_clear(c);
+    fmpz_mpoly_clear(F, ctx);
+}
+
+/* The modular resultant equals FLINT's exact fmpz_mpoly_resultant, coefficient for
+ * coefficient. */
+static int resultant_matches(const cb_bipoly_struct *f, const cb_bipoly_struct *g,
+                             const fmpz_mpoly_ctx_t ctx)
+{
+    fmpz_mpoly_t F, G, R;
+    cb_bipoly_t r;
+    fmpz_poly_t m;
+    cb_error err;
+    fmpz_mpoly_init(F, ctx);
+    fmpz_mpoly_init(G, ctx);
+    fmpz_mpoly_init(R, ctx);
+    cb_bipoly_init(r);
+    fmpz_poly_init(m);
+    cb_bipoly_get_fmpz_mpoly(F, f, ctx);
+    cb_bipoly_get_fmpz_mpoly(G, g, ctx);
+    int ok = fmpz_mpoly_resultant(R, F, G, 1, ctx) &&
+             cb_bipoly_resultant(m, f, g, &err) == CB_OK;
+    cb_bipoly_set_fmpz_mpoly(r, R, ctx);
+    ok = ok && (r->len == 0 ? fmpz_poly_is_zero(m) : r->len == 1 && fmpz_poly_equal(m, r->c));
+    fmpz_poly_clear(m);
+    cb_bipoly_clear(r);
+    fmpz_mpoly_clear(R, ctx);
+    fmpz_mpoly_clear(G, ctx);
+    fmpz_mpoly_clear(F, ctx);
+    return ok;
+}
+
+/* cb_bipoly_resultant against fmpz_mpoly_resultant: random pairs of several bidegrees and
+ * coefficient sizes (signed), g = f_t as the topology uses it, leading coefficients in t that
+ * vanish at s = 0, 1, 2, 3 (evaluation points to skip), common factors (zero resultant), and
+ * degree 0 in t or s. cb_fmpz_poly_mat_det against fmpz_poly_mat_det on random matrices. */
+static void test_modular(check_rng *rng)
+{
+    fmpz_mpoly_ctx_t ctx;
+    cb_bipoly_t f, g, c;
+    fmpz_mpoly_ctx_init(ctx, 2, ORD_LEX);
+    cb_bipoly_init(f);
+    cb_bipoly_init(g);
+    cb_bipoly_init(c);
+    static const int bits[] = {4, 16, 64, 200};
+    for (int trial = 0; trial < 120; trial++) {
+        int b = bits[trial % 4], kind = trial / 4 % 5;
+        slong dsf = check_rng_int(rng, 0, 6), dtf = check_rng_int(rng, kind == 3 ? 0 : 1, 7);
+        slong dsg = check_rng_int(rng, 0, 6), dtg = check_rng_int(rng, kind == 3 ? 0 : 1, 7);
+        random_bipoly(f, rng, dsf, dtf, b, ctx);
+        random_bipoly(g, rng, dsg, dtg, b, ctx);
+        const char *what = "random";
+        if (kind == 1) {
+            what = "g = f_t";
+            if (f->len > 1)
+                cb_bipoly_derivative_t(g, f);
+        } else if (kind == 2) {
+            /* lc_t f = s (s - 1) (s - 2) (s - 3) times a random polynomial */
+            what = "lc_t vanishing at s = 0..3";
+            fmpz_poly_t q;
+            fmpz_poly_init(q);
+            for (slong k = 0; k < 4; k++) {
+                fmpz_poly_set_coeff_si(q, 1, 1);
+                fmpz_poly_set_coeff_si(q, 0, -k);
+                fmpz_poly_mul(f->c + f->len - 1, f->c + f->len - 1, q);
+                if (k < 2)
+                    fmpz_poly_mul(g->c + g->len - 1, g->c + g->len - 1, q);
+            }
+            fmpz_poly_clear(q);
+        } else if (kind == 4) {
+            /* common factor of positive degree in t */
+            what = "common factor";
+            fmpz_mpoly_t F, G, C;
+            fmpz_mpoly_init(F, ctx);
+            fmpz_mpoly_init(G, ctx);
+            fmpz_mpoly_init(C, ctx);
+            random_bipoly(c, rng, check_rng_int(rng, 0, 3), check_rng_int(rng, 1, 3), b, ctx);
+            cb_bipoly_get_fmpz_mpoly(F, f, ctx);
+            cb_bipoly_get_fmpz_mpoly(G, g, ctx);
+            cb_bipoly_get_fmpz_mpoly(C, c, ctx);
+            fmpz_mpoly_mul(F, F, C, ctx);
+            fmpz_mpoly_mul(G, G, C, ctx);
+            cb_bipoly_set_fmpz_mpoly(f, F, ctx);
+            cb_bipoly_set_fmpz_mpoly(g, G, ctx);
+            fmpz_mpoly_clear(C, ctx);
+            fmpz_mpoly_clear(G, ctx);
+            fmpz_mpoly_clear(F, ctx);
+        } else if (kind == 3)
+            what = "degree 0 in t allowed";
+        CHECK(resultant_matches(f, g, ctx), "trial %d (%s, %d bits): bidegrees (%ld, %ld), (%ld, %ld)",
+              trial, what, b, (long)dsf, (long)dtf, (long)dsg, (long)dtg);
+        if (kind == 4) {
+            fmpz_poly_t r;
+            fmpz_poly_init(r);
+            CHECK(cb_bipoly_resultant(r, f, g, NULL) == CB_OK && fmpz_poly_is_zero(r),
+                  "trial %d: common factor, resultant not zero", trial);
+            fmpz_poly_clear(r);
+        }
+    }
+    /* Zero polynomials, and constants in t. */
+    random_bipoly(f, rng, 3, 4, 30, ctx);
+    cb_bipoly_set(g, f);
+    g->len = 0;
+    CHECK(resultant_matches(f, g, ctx) && resultant_matches(g, f, ctx), "zero polynomial");
+    random_bipoly(g, rng, 2, 0, 30, ctx);
+    CHECK(resultant_matches(f, g, ctx) && resultant_matches(g, f, ctx), "constant in t");
+    random_bipoly(f, rng, 3, 0, 30, ctx);
+    CHECK(resultant_matches(f, g, ctx), "two constants in t");
+    /* Not normalised: rejected. */
+    random_bipoly(f, rng, 2, 3, 30, ctx);
+    fmpz_poly_zero(f->c + f->len - 1);
+    fmpz_poly_t r;
+    cb_error err;
+    fmpz_poly_init(r);
+    CHECK(cb_bipoly_resultant(r, f, g, &err) == CB_ERR_INVALID, "zero leading coefficient accepted");
+
+    /* Determinants: random matrices with zero entries, repeated rows (det 0), size 0. */
+    fmpz_poly_mat_t A;
+    fmpz_poly_t d;
+    fmpz_poly_init(d);
+    for (int trial = 0; trial < 60; trial++) {
+        slong n = check_rng_int(rng, 0, 7);
+        int b = bits[trial % 4];
+        fmpz_poly_mat_init(A, n, n);
+        fmpz_t x;
+        fmpz_init(x);
+        for (slong i = 0; i < n; i++)
+            for (slong j = 0; j < n; j++) {
+                if (check_rng_int(rng, 0, 4) == 0)
+                    continue;
+                slong deg = check_rng_int(rng, 0, 5);
+                for (slong k = 0; k <= deg; k++) {
+                    random_fmpz(x, rng, b);
+                    fmpz_poly_set_coeff_fmpz(fmpz_poly_mat_entry(A, i, j), k, x);
+                }
+            }
+        if (n >= 2 && trial % 6 == 0)
+            for (slong j = 0; j < n; j++)
+                fmpz_poly_set(fmpz_poly_mat_entry(A, n - 1, j), fmpz_poly_mat_entry(A, 0, j));
+        fmpz_poly_mat_det(r, A);
+        CHECK(cb_fmpz_poly_mat_det(d, A, &err) == CB_OK && fmpz_poly_equal(d, r),
+              "trial %d: %ld x %ld determinant (%d bits) differs from fmpz_poly_mat_det", trial,
+              (long)n, (long)n, b);
+        fmpz_clear(x);
+        fmpz_poly_mat_clear(A);
+    }
+    fmpz_poly_mat_init(A, 2, 3);
+    CHECK(cb_fmpz_poly_mat_det(d, A, &err) == CB_ERR_INVALID, "2 x 3 determinant accepted");
+    fmpz_poly_mat_clear(A);
+    fmpz_poly_clear(d);
+    fmpz_poly_clear(r);
+    cb_bipoly_clear(c);
+    cb_bipoly_clear(g);
+    cb_bipoly_clear(f);
+    fmpz_mpoly_ctx_clear(ctx);
+}
+
 /* Bad input is rejected; a fibre the method cannot certify is reported, never guessed. */
 static void test_errors(void)
 {
@@ -498,15 +685,15 @@ static void test_example2(void)
         goto out_phi;
 
     fmpz_mpoly_ctx_t ctx;
-    fmpz_mpoly_t phi, phit, R;
-    cb_bipoly_t rb;
+    fmpz_mpoly_t phi;
+    cb_bipoly_t pb;
+    fmpz_poly_t res;
     fmpq_t s0, s1, t0, t1, a, w;
     fmpz_poly_t f;
     fmpz_mpoly_ctx_init(ctx, 2, ORD_LEX);
     fmpz_mpoly_init(phi, ctx);
-    fmpz_mpoly_init(phit, ctx);
-    fmpz_mpoly_init(R, ctx);
-    cb_bipoly_init(rb);
+    cb_bipoly_init(pb);
+    fmpz_poly_init(res);
     fmpq_init(s0);
     fmpq_init(s1);
     fmpq_init(t0);
@@ -525,14 +712,13 @@ static void test_example2(void)
     fmpq_set_si(t1, 2, 1);
 
     /* s-critical values: Res_t(phi, phi_t) in [-1, 1], exactly three; alpha2 = 0 exactly. */
-    fmpz_mpoly_derivative(phit, phi, 1, ctx);
-    fmpz_mpoly_resultant(R, phi, phit, 1, ctx);
-    cb_bipoly_set_fmpz_mpoly(rb, R, ctx);
+    cb_bipoly_set_fmpz_mpoly(pb, phi, ctx);
+    cb_bipoly_resultant_dt(res, pb);
     cb_roots_t cv;
     cb_roots_init(cv);
     fmpq_set_si(w, 1, 1);
     fmpq_div_2exp(w, w, 50);
-    CHECK(rb->len == 1 && cb_roots_isolate(cv, rb->c, s0, s1, &err) == CB_OK,
+    CHECK(!fmpz_poly_is_zero(res) && cb_roots_isolate(cv, res, s0, s1, &err) == CB_OK,
           "example 2: resultant roots");
     /* Four distinct real roots: the paper's three and one at s ~ -0.921961226 of multiplicity
      * 4 (no sign change, invisible to a floating solver), over which the multiple roots of
@@ -542,7 +728,7 @@ static void test_example2(void)
     if (cv->n == 4) {
         fmpz_poly_t dr;
         fmpz_poly_init(dr);
-        fmpz_poly_derivative(dr, rb->c);
+        fmpz_poly_derivative(dr, res);
         cb_roots_refine(cv, 0, w);
         CHECK(fabs(q_d(cv->root[0].lo) + 0.921961226081) < 1e-10 &&
                   cb_ctopo_alg_vanishes(dr, cv->sqfree, cv->root[0].lo, cv->root[0].hi),
@@ -687,9 +873,8 @@ static void test_example2(void)
     fmpq_clear(t0);
     fmpq_clear(s1);
     fmpq_clear(s0);
-    cb_bipoly_clear(rb);
-    fmpz_mpoly_clear(R, ctx);
-    fmpz_mpoly_clear(phit, ctx);
+    fmpz_poly_clear(res);
+    cb_bipoly_clear(pb);
     fmpz_mpoly_clear(phi, ctx);
     fmpz_mpoly_ctx_clear(ctx);
 out_phi:
@@ -703,6 +888,7 @@ out_phi:
 int main(void)
 {
     check_rng rng = {20240607};
+    test_modular(&rng);
     test_designed();
     test_example2();
     test_subresultant(&rng);
