@@ -41,6 +41,7 @@
 #include "brep/analytic.h"
 #include "bench/bench_stats.h"
 #include "io/json.h"
+#include "models/models.h"
 #include "ssi/ssi.h"
 
 #define MAX_DEG 6
@@ -228,53 +229,11 @@ static int graph_pair(ssi_case *c, const poly *h)
     return ok;
 }
 
-/* A rational bicubic patch from power coefficients (component q of s^i t^j in hc[16 q + 4 i +
- * j], q = x, y, z, w) over [s0, s0 + ds] x [t0, t0 + dt]: homogeneous control points are the
- * Bernstein coefficients times 36 (a common factor of all four leaves the surface as it is), so
- * integers. */
-static int rational_patch(cb_nurbs_surface_t out, const double hc[64], long long s0, long long ds,
-                          long long t0, long long dt)
-{
-    cb_error err;
-    if (cb_nurbs_surface_alloc(out, 3, 3, 4, 4, &err) != CB_OK)
-        return 0;
-    clamped_knots(out->knots_u, 3, (double)s0, (double)(s0 + ds));
-    clamped_knots(out->knots_v, 3, (double)t0, (double)(t0 + dt));
-    for (int q = 0; q < 4; q++) {
-        poly p;
-        memset(&p, 0, sizeof p);
-        for (int i = 0; i < 4; i++)
-            for (int j = 0; j < 4; j++)
-                p.c[i][j] = (long long)hc[16 * q + 4 * i + j];
-        long long N[16];
-        if (!bernstein(N, &p, 3, 3, s0, ds, t0, dt))
-            return 0;
-        for (int k = 0; k < 16; k++)
-            out->cw[4 * k + q] = (double)N[k];
-    }
-    return cb_nurbs_surface_validate(out, &err) == CB_OK;
-}
-
-/* The paper's Example 2 (appendix A; the P of its Example 1). */
+/* The paper's Example 2 (appendix A; the P of its Example 1): models/paper.c. */
 static int example2(ssi_case *c)
 {
-    static const struct {
-        int q, i, j;
-        double c;
-    } pt[] = {{0, 3, 0, -32}, {0, 1, 2, 96}, {0, 2, 0, 48}, {0, 1, 1, -96}, {0, 0, 2, -48},
-              {0, 1, 0, 6},   {0, 0, 1, 48}, {0, 0, 0, -11}, {1, 2, 1, 96}, {1, 0, 3, -32},
-              {1, 2, 0, -48}, {1, 1, 1, -96}, {1, 0, 2, 48}, {1, 1, 0, 48}, {1, 0, 1, 6},
-              {1, 0, 0, -11}, {2, 2, 0, 24}, {2, 0, 2, -24}, {2, 1, 0, -24}, {2, 0, 1, 24},
-              {3, 0, 0, 2}},
-      qt[] = {{0, 1, 2, 2}, {0, 1, 0, 2}, {1, 2, 3, -1}, {1, 2, 0, 1}, {1, 0, 3, -3},
-              {1, 0, 0, 3}, {2, 3, 1, 2}, {2, 0, 1, 6}, {3, 2, 2, 1}, {3, 2, 0, 1},
-              {3, 0, 2, 1}, {3, 0, 0, 1}};
-    double hp[64] = {0}, hq[64] = {0};
-    for (size_t k = 0; k < sizeof pt / sizeof *pt; k++)
-        hp[16 * pt[k].q + 4 * pt[k].i + pt[k].j] = pt[k].c;
-    for (size_t k = 0; k < sizeof qt / sizeof *qt; k++)
-        hq[16 * qt[k].q + 4 * qt[k].i + qt[k].j] = qt[k].c;
-    if (!rational_patch(c->na, hp, 0, 1, 0, 1) || !rational_patch(c->nb, hq, -1, 2, 0, 2))
+    cb_error err;
+    if (cb_model_paper_example2(c->na, c->nb, &err) != CB_OK)
         return 0;
     cb_ssi_surface_set_nurbs(&c->A, c->na);
     cb_ssi_surface_set_nurbs(&c->B, c->nb);

@@ -6,6 +6,7 @@
 #ifndef CB_MODELS_H
 #define CB_MODELS_H
 
+#include "brep/nurbs.h"
 #include "brep/topo.h"
 
 /* ---------------------------------------------------------------- volume estimates --------- */
@@ -36,6 +37,16 @@ typedef struct {
  * through a cell failed, CB_ERR_INVALID for n, CB_ERR_NOMEM. */
 cb_status cb_model_overlap_estimate(cb_overlap_estimate *e, const cb_topo_body *A,
                                     const cb_topo_body *B, int n, int threads, cb_error *err);
+
+/* ---------------------------------------------------------------- paper surfaces ----------- */
+
+/* The surface pair of Example 2 of the SSI paper (../shared/reference/topology-guaranteed-ssi.md,
+ * appendix A): P, the rational bicubic of its Example 1 over [0, 1]^2, and Q(s, t) = [2st^2 + 2s,
+ * -s^2t^3 + s^2 - 3t^3 + 3, 2s^3t + 6t, s^2t^2 + s^2 + t^2 + 1] over [-1, 1] x [0, 2], as
+ * single-patch rational B-splines whose homogeneous control points are integers (the exact
+ * Bernstein coefficients times 36). P and Q must be initialised; errors of
+ * cb_nurbs_surface_alloc. */
+cb_status cb_model_paper_example2(cb_nurbs_surface_t P, cb_nurbs_surface_t Q, cb_error *err);
 
 /* ---------------------------------------------------------------- hummingbird -------------- */
 

@@ -685,6 +685,48 @@ static void test_scenarios(void)
     cb_model_scenario_clear(&s);
 }
 
+/* The paper's Example 2 pair: both B-splines equal the appendix's rational polynomials on a
+ * grid of their domains (P of Example 1 on [0, 1]^2, Q on [-1, 1] x [0, 2]), and their
+ * homogeneous control points are integers. */
+static void test_paper_example2(void)
+{
+    cb_nurbs_surface_t P, Q;
+    cb_nurbs_surface_init(P);
+    cb_nurbs_surface_init(Q);
+    cb_error err;
+    cb_status st = cb_model_paper_example2(P, Q, &err);
+    CHECK(st == CB_OK, "example 2: %s", err.msg);
+    double worst = 0;
+    int integral = 1;
+    for (int k = 0; k < 16 * 4 && st == CB_OK; k++)
+        integral &= P->cw[k] == floor(P->cw[k]) && Q->cw[k] == floor(Q->cw[k]);
+    for (int i = 0; i <= 8 && st == CB_OK; i++)
+        for (int j = 0; j <= 8; j++) {
+            double s = i / 8.0, t = j / 8.0, X[3], Y[3];
+            cb_nurbs_surface_eval(X, P, s, t);
+            double pw = 2;
+            double px[3] = {-32 * s * s * s + 96 * s * t * t + 48 * s * s - 96 * s * t -
+                                48 * t * t + 6 * s + 48 * t - 11,
+                            96 * s * s * t - 32 * t * t * t - 48 * s * s - 96 * s * t +
+                                48 * t * t + 48 * s + 6 * t - 11,
+                            24 * s * s - 24 * t * t - 24 * s + 24 * t};
+            s = -1 + 2 * s;
+            t = 2 * t;
+            cb_nurbs_surface_eval(Y, Q, s, t);
+            double w = s * s * t * t + s * s + t * t + 1;
+            double qx[3] = {2 * s * t * t + 2 * s, -s * s * t * t * t + s * s - 3 * t * t * t + 3,
+                            2 * s * s * s * t + 6 * t};
+            for (int q = 0; q < 3; q++) {
+                worst = fmax(worst, fabs(X[q] - px[q] / pw));
+                worst = fmax(worst, fabs(Y[q] - qx[q] / w));
+            }
+        }
+    CHECK(worst < 1e-12 && integral, "example 2: off the appendix's surfaces by %g, integral %d",
+          worst, integral);
+    cb_nurbs_surface_clear(P);
+    cb_nurbs_surface_clear(Q);
+}
+
 static void test_command(void)
 {
     char path[256], args[512];
@@ -731,6 +773,7 @@ int main(void)
     test_scenarios();
     test_bracket();
     test_command();
+    test_paper_example2();
     printf("models tests: %.2f s\n", seconds() - t0);
     return check_report("models");
 }
