@@ -4,7 +4,8 @@
  * Pipeline for two surfaces A and B (ssi_pairs.c):
  *   1. Bezier extraction of the spline side(s); OBB culling of patch pairs (section 4.1).
  *   2. One side, P, is implicitised: an analytic surface by its exact equation (section 5.3);
- *      of two splines the one of lower patch bidegree, per Bezier patch (Dixon, ssi/implicit.h).
+ *      of two splines a planar one (its plane), else the one of lower patch bidegree, per
+ *      Bezier patch (Dixon, ssi/implicit.h).
  *      The other side, Q, is parameterised: phi(s, t) = F(Q(s, t)) per patch pair.
  *   3. A patch pair whose Bernstein coefficients of phi have one strict sign has no
  *      intersection (proved). Otherwise cb_ctopo_compute gives the certified topology graph of
