@@ -724,3 +724,17 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
         cb_bool_cuts_clear(out);
     return st;
 }
+
+cb_status _cb_bool_solids_cuts(cb_bool_solid *S[2], cb_bool_cuts *cuts,
+                               const cb_ssi_result_struct *r, const cb_topo_body *A,
+                               const cb_topo_body *B, double tol, cb_error *err)
+{
+    S[0] = S[1] = NULL;
+    cb_bool_cuts_init(cuts);
+    cb_status st = cb_bool_solid_new(S, A, tol, err);
+    if (!st)
+        st = cb_bool_solid_new(S + 1, B, tol, err);
+    if (!st)
+        st = cb_bool_cuts_make(cuts, r, S[0], S[1], tol, err);
+    return st;
+}

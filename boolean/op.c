@@ -10,6 +10,7 @@
 #include <time.h>
 
 #include "boolean/arrange.h"
+#include "boolean/cut_internal.h"
 #include "brep/geom.h"
 
 const char *cb_bool_op_name(cb_bool_op op)
@@ -448,14 +449,9 @@ cb_status cb_bool_run(cb_topo_body **out, cb_bool_stats *stats, cb_bool_op op,
         return st;
     }
 
-    cb_bool_solid *S[2] = {NULL, NULL};
-    st = cb_bool_solid_new(S, A, tol, err);
-    if (!st)
-        st = cb_bool_solid_new(S + 1, B, tol, err);
+    cb_bool_solid *S[2];
     cb_bool_cuts cuts;
-    cb_bool_cuts_init(&cuts);
-    if (!st)
-        st = cb_bool_cuts_make(&cuts, r, S[0], S[1], tol, err);
+    st = _cb_bool_solids_cuts(S, &cuts, r, A, B, tol, err);
     cb_ssi_result_clear(r);
     stats->cuts = cuts.n;
 

@@ -2,7 +2,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "boolean/bool.h"
+#include "boolean/cut_internal.h"
 
 /* Does cut b continue cut a: the same SSI curve, b starting where a ends? (A curve split at a
  * periodic window's end gives both pieces that point exactly.) */
@@ -80,14 +80,9 @@ static cb_status take_cuts(cb_ssi_result_struct *r, const cb_bool_cuts *cuts)
 cb_status cb_bool_ssi_trim(cb_ssi_result_struct *r, const cb_topo_body *A, const cb_topo_body *B,
                            double tol, cb_error *err)
 {
-    cb_bool_solid *S[2] = {NULL, NULL};
-    cb_status st = cb_bool_solid_new(S, A, tol, err);
-    if (!st)
-        st = cb_bool_solid_new(S + 1, B, tol, err);
+    cb_bool_solid *S[2];
     cb_bool_cuts cuts;
-    cb_bool_cuts_init(&cuts);
-    if (!st)
-        st = cb_bool_cuts_make(&cuts, r, S[0], S[1], tol, err);
+    cb_status st = _cb_bool_solids_cuts(S, &cuts, r, A, B, tol, err);
     if (!st && take_cuts(r, &cuts) != CB_OK)
         st = cb_error_set(err, CB_ERR_NOMEM, "ssi trim: out of memory");
     /* Isolated points: kept when inside (or on the boundary of) both faces. */
