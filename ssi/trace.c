@@ -124,21 +124,29 @@ int _cb_ssi_roots01(double *roots, const double *a, int deg)
         }
         if ((flo < 0) == (fhi < 0))
             continue;
+        /* Newton inside the sign-change bracket (between consecutive critical points the
+         * polynomial is monotone), bisecting whenever a step would leave it: a handful of
+         * evaluations where bisection to the last bit took about 55 (at degree 24 these roots
+         * were 80% of a pair's time). */
+        double x = 0.5 * (lo + hi);
         for (int it = 0; it < 200; it++) {
-            double m = 0.5 * (lo + hi);
-            if (m <= lo || m >= hi)
-                break;
-            double fm = horner(a, deg, m);
-            if (fm == 0) {
-                lo = hi = m;
+            double fx = horner(a, deg, x);
+            if (fx == 0) {
+                lo = hi = x;
                 break;
             }
-            if ((fm < 0) == (flo < 0))
-                lo = m;
+            if ((fx < 0) == (flo < 0))
+                lo = x;
             else
-                hi = m;
+                hi = x;
+            double dfx = horner(d, deg - 1, x), xn = x - fx / dfx;
+            if (!(xn > lo && xn < hi))
+                xn = 0.5 * (lo + hi);
+            if (xn <= lo || xn >= hi || xn == x)
+                break;
+            x = xn;
         }
-        roots[n++] = 0.5 * (lo + hi);
+        roots[n++] = lo == hi ? lo : x;
     }
     return n;
 }
@@ -348,6 +356,11 @@ static cb_status trace_edge(_cb_ssi_trace_curve *out, const cb_ctopo_t T, slong 
         } else {
             ok = edge_point(nxt, &P, xn);
         }
+        /* A step below the spacing of doubles at x makes no progress (an edge between a
+         * node on a rational critical line and its helping line a round-off distance away:
+         * it cycled 100000 times, 80% of the paper's Example 2). */
+        if (ok && !last && xn == x)
+            ok = 0;
         if (ok)
             ok = edge_point(mid, &P, 0.5 * (x + xn));
         if (ok) {
@@ -360,7 +373,7 @@ static cb_status trace_edge(_cb_ssi_trace_curve *out, const cb_ctopo_t T, slong 
             if (ok && sag < 0.25 * chord)
                 step *= 1.5;
         }
-        if (!ok && fabs(step) > min_step * fabs(span)) {
+        if (!ok && fabs(step) > min_step * fabs(span) && x + 0.5 * step != x) {
             step *= 0.5;
             continue;
         }
