@@ -454,16 +454,6 @@ static void p_start(double uv[2], const _cb_ssi_pair_geom *g, const double X[3])
     p_project(uv, g, X);
 }
 
-/* 1 when the patch's weight d(u, v) is not constant. */
-static int dixon_patch_rational(const cb_dixon_patch_struct *p)
-{
-    slong nc = (p->m + 1) * (p->n + 1);
-    for (slong k = 1; k < nc; k++)
-        if (!fmpz_is_zero(p->coef + 3 * nc + k))
-            return 1;
-    return 0;
-}
-
 /* The section 4.4 decision for a spline P: X lies on the trimmed patch iff the Dixon
  * inversion has a solution inside the box. Planar patches (no pencil) keep the Newton
  * decision already made. */
@@ -644,6 +634,45 @@ static cb_status densify(sample **D, slong *nd, slong *alloc, const sample *a, c
     return densify(D, nd, alloc, &m, b, g, depth + 1);
 }
 
+/* Sample i of the traced curve: P's parameters continued from the neighbouring sample prev
+ * (a fresh inversion when there is none, or it lies off the surfaces), refined onto both
+ * surfaces, and whether it lies inside P's box. */
+static void place_sample(sample *S, const sample *prev, const _cb_ssi_trace_curve *tc, slong i,
+                         const _cb_ssi_pair_geom *g, int p_spline)
+{
+    double X[3];
+    patch_eval(X, NULL, NULL, g->q, tc->st[2 * i], tc->st[2 * i + 1]);
+    _cb_ssi_pq pq = {{0, 0}, {tc->st[2 * i], tc->st[2 * i + 1]}, tc->fixed[i]};
+    int started = !prev || !(prev->gap <= 10 * g->tol);
+    if (started)
+        p_start(pq.uv, g, X);
+    else if (g->p_analytic)
+        analytic_invert(pq.uv, g, X, prev->pq.uv);
+    else {
+        memcpy(pq.uv, prev->pq.uv, sizeof pq.uv);
+        p_project(pq.uv, g, X);
+    }
+    S->gap = refine(&pq, S->X, g);
+    S->pq = pq;
+    S->in = inside_p(g, &pq, S->gap);
+    if (!S->in && !started && p_spline) {
+        /* A patch's parameterisation continued past its box may cover its surface again (a
+         * rational quarter circle's extends to the whole circle; a polynomial patch folds):
+         * followed from one preimage, the parameters may reach a point of the patch by
+         * another, outside the box. The inversion prefers the preimage inside. */
+        _cb_ssi_pq alt = {{0, 0}, {tc->st[2 * i], tc->st[2 * i + 1]}, tc->fixed[i]};
+        double Xa[3];
+        p_start(alt.uv, g, X);
+        double gap = refine(&alt, Xa, g);
+        if (inside_p(g, &alt, gap)) {
+            S->pq = alt;
+            S->gap = gap;
+            memcpy(S->X, Xa, sizeof Xa);
+            S->in = 1;
+        }
+    }
+}
+
 /* One traced curve of _cb_ssi_clip: its pieces appended to out. */
 static cb_status clip_curve(_cb_ssi_piece_set *out, const _cb_ssi_trace_curve *tc,
                             const _cb_ssi_pair_geom *g)
@@ -654,44 +683,22 @@ static cb_status clip_curve(_cb_ssi_piece_set *out, const _cb_ssi_trace_curve *t
     sample *S = malloc((size_t)(n + 1) * sizeof(sample));
     if (!S)
         return CB_ERR_NOMEM;
-    int p_rational = !g->p_analytic && dixon_patch_rational(g->p);
-    for (slong i = 0; i < n; i++) {
-        double X[3];
-        patch_eval(X, NULL, NULL, g->q, tc->st[2 * i], tc->st[2 * i + 1]);
-        _cb_ssi_pq pq = {{0, 0}, {tc->st[2 * i], tc->st[2 * i + 1]}, tc->fixed[i]};
-        int started = i == 0 || !(S[i - 1].gap <= 10 * g->tol);
-        if (started)
-            p_start(pq.uv, g, X);
-        else if (g->p_analytic)
-            analytic_invert(pq.uv, g, X, S[i - 1].pq.uv);
-        else {
-            memcpy(pq.uv, S[i - 1].pq.uv, sizeof pq.uv);
-            p_project(pq.uv, g, X);
-        }
-        S[i].gap = refine(&pq, S[i].X, g);
-        S[i].pq = pq;
-        S[i].in = inside_p(g, &pq, S[i].gap);
-        if (!S[i].in && !started && p_rational) {
-            /* A rational patch's parameterisation continued past its box covers its surface
-             * again (a quarter circle's extends to the whole circle): followed from outside
-             * the box, the parameters may reach a point of the patch by the other preimage,
-             * outside the box. The inversion prefers the preimage inside. */
-            _cb_ssi_pq alt = {{0, 0}, {tc->st[2 * i], tc->st[2 * i + 1]}, tc->fixed[i]};
-            double Xa[3];
-            p_start(alt.uv, g, X);
-            double gap = refine(&alt, Xa, g);
-            if (inside_p(g, &alt, gap)) {
-                S[i].pq = alt;
-                S[i].gap = gap;
-                memcpy(S[i].X, Xa, sizeof Xa);
-                S[i].in = 1;
-            }
-        }
+    int p_spline = !g->p_analytic;
+    /* Samples are placed from the middle of the curve outwards, each continued from its
+     * neighbour towards the middle: an end may be a node where the curve crosses P's
+     * self-intersection (the paper's Example 2), whose preimages on both sheets lie inside
+     * the box; continued from the curve's inside, it gets the preimage of its own sheet. */
+    slong mid = n / 2;
+    for (slong k = 0; k < n; k++) {
+        slong i = k == 0 ? mid : (k <= mid ? mid - k : k), from = i < mid ? i + 1 : i - 1;
+        if (k > mid && i == mid)
+            continue;
+        place_sample(S + i, k == 0 ? NULL : S + from, tc, i, g, p_spline);
     }
     /* The point where the curve leaves the box is sought between an inside sample and its
      * outside neighbour, along their parameters: both must be on one sheet. An outside
-     * neighbour of a rational patch is placed again from the inside sample's parameters. */
-    for (slong i = 0; p_rational && i < n; i++)
+     * neighbour is placed again from the inside sample's parameters. */
+    for (slong i = 0; p_spline && i < n; i++)
         for (int side = -1; side <= 1 && S[i].in; side += 2) {
             slong j = i + side;
             if (j < 0 || j >= n || S[j].in)

@@ -596,11 +596,20 @@ static void pair_run(pair_job *J, const pair_ctx *c)
         cb_phi_clear(phi);
         return;
     }
-    if (phi->ds > c->opts->max_phi_degree || phi->dt > c->opts->max_phi_degree) {
+    /* The true bidegree: the formal one, N times Q's, can be above it (the paper's Example 2:
+     * (27, 24) of (27, 27)). */
+    slong ts = 0, tt = 0;
+    for (slong i = 0; i <= phi->ds; i++)
+        for (slong j = 0; j <= phi->dt; j++)
+            if (!fmpz_is_zero(phi->c + i * (phi->dt + 1) + j)) {
+                ts = FLINT_MAX(ts, i);
+                tt = FLINT_MAX(tt, j);
+            }
+    if (ts > c->opts->max_phi_degree || tt > c->opts->max_phi_degree) {
         J->st = CB_ERR_UNSUPPORTED;
         snprintf(J->msg, sizeof J->msg,
                  "phi of bidegree (%ld, %ld) is above the topology stage's limit %ld",
-                 (long)phi->ds, (long)phi->dt, (long)c->opts->max_phi_degree);
+                 (long)ts, (long)tt, (long)c->opts->max_phi_degree);
         cb_phi_clear(phi);
         return;
     }
@@ -974,13 +983,18 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
             int planar = ppat && near_planar_corners(h, ppat + i);
             if (planar)
                 N = 1; /* p_side_run gives the patch its plane */
-            if (!planar && ppat && patch_rational(ppat + i) &&
-                ppat[i].deg_u * ppat[i].deg_v <= 4) {
-                /* A rational P patch of degree <= 2: implicitise, then choose (exact conic
-                 * weights, as Colibri's models write them, give base points and an implicit
-                 * degree below 2 m n, e.g. 2 for a cylinder or sphere piece). */
+            int rational = !planar && ppat && patch_rational(ppat + i);
+            if ((rational && ppat[i].deg_u * ppat[i].deg_v <= 4) ||
+                (!planar && ppat && N * dq > opts->max_phi_degree &&
+                 N <= opts->max_phi_degree)) {
+                /* A rational P patch of degree <= 2, or a patch whose phi could exceed the
+                 * limit while its Dixon bound 2 m n does not (the limit raised for it, as for
+                 * the paper's Example 2): implicitise, then choose. Base points lower the
+                 * implicit degree below 2 m n: exact conic weights, as Colibri's models write
+                 * them, give 2 for a cylinder or sphere piece; the bicubic P of the paper's
+                 * Example 1 gives 9, and phi (27, 24) against its Q. */
                 job[nj].probe = 1;
-            } else if (!planar && ppat && patch_rational(ppat + i)) {
+            } else if (rational) {
                 job[nj].spline = 1;
                 r->pairs_subdivided++;
             } else if (N * dq > opts->max_phi_degree && ppat) {
@@ -1026,13 +1040,12 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
             if (!J->probe)
                 continue;
             /* The algebraic route when the implicit degree dropped below the Dixon rank
-             * bound 2 m n (base points of exact conic arcs) and phi stays within the limit;
-             * otherwise (weights rounded, as sqrt(2)/2 is: no base points, degree 2 m n,
-             * huge coefficients) the subdivision route. */
-            slong dq = FLINT_MAX(qpat[J->iq].deg_u, qpat[J->iq].deg_v);
+             * bound 2 m n (base points); otherwise (weights rounded, as sqrt(2)/2 is: no base
+             * points, degree 2 m n, huge coefficients) the subdivision route. pair_run checks
+             * phi's true bidegree against the limit (F's degree times Q's only bounds it)
+             * and falls back to subdivision above it. */
             slong bound = 2 * ppat[J->ip].deg_u * ppat[J->ip].deg_v;
-            if (P[J->ip].st != CB_OK || P[J->ip].F->deg * dq > opts->max_phi_degree ||
-                P[J->ip].F->deg >= bound) {
+            if (P[J->ip].st != CB_OK || P[J->ip].F->deg >= bound) {
                 J->spline = 1;
                 r->pairs_subdivided++;
             }

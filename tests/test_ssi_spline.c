@@ -5,11 +5,14 @@
  * against a plane, thread-count independence. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include "check.h"
 #include "io/step.h"
 #include "models/models.h"
+#include "ssi/dixon.h"
+#include "ssi/implicit.h"
 #include "ssi/spline.h"
 #include "ssi/ssi.h"
 
@@ -471,6 +474,187 @@ static void test_touch_exact(void)
     cb_nurbs_surface_clear(b);
 }
 
+/* Example 1's P of the paper, (x, y, z) and its partial derivatives at (s, t). */
+static void paper_p(double X[3], double Xs[3], double Xt[3], double s, double t)
+{
+    X[0] = (-32 * s * s * s + 96 * s * t * t + 48 * s * s - 96 * s * t - 48 * t * t + 6 * s +
+            48 * t - 11) / 2;
+    X[1] = (96 * s * s * t - 32 * t * t * t - 48 * s * s - 96 * s * t + 48 * t * t + 48 * s +
+            6 * t - 11) / 2;
+    X[2] = (24 * s * s - 24 * t * t - 24 * s + 24 * t) / 2;
+    Xs[0] = (-96 * s * s + 96 * t * t + 96 * s - 96 * t + 6) / 2;
+    Xs[1] = (192 * s * t - 96 * s - 96 * t + 48) / 2;
+    Xs[2] = (48 * s - 24) / 2;
+    Xt[0] = (192 * s * t - 96 * s - 96 * t + 48) / 2;
+    Xt[1] = (96 * s * s - 96 * t * t - 96 * s + 96 * t + 6) / 2;
+    Xt[2] = (-48 * t + 24) / 2;
+}
+
+/* Some (u, v) in [0, 1]^2 with P(u, v) = X within 1e-9: Newton from an 11 x 11 grid of starts
+ * (P folds over itself, so one start is not enough). */
+static int paper_p_inside(const double X[3])
+{
+    for (int a = 0; a <= 10; a++)
+        for (int b = 0; b <= 10; b++) {
+            double u = a / 10.0, v = b / 10.0, P[3], Pu[3], Pv[3];
+            for (int it = 0; it < 50 && fabs(u) < 5 && fabs(v) < 5; it++) {
+                paper_p(P, Pu, Pv, u, v);
+                double A = 0, B = 0, C = 0, ru = 0, rv = 0;
+                for (int k = 0; k < 3; k++) {
+                    A += Pu[k] * Pu[k];
+                    B += Pu[k] * Pv[k];
+                    C += Pv[k] * Pv[k];
+                    ru += Pu[k] * (X[k] - P[k]);
+                    rv += Pv[k] * (X[k] - P[k]);
+                }
+                double det = A * C - B * B;
+                if (!(fabs(det) > 0))
+                    break;
+                u += (C * ru - B * rv) / det;
+                v += (A * rv - B * ru) / det;
+            }
+            paper_p(P, Pu, Pv, u, v);
+            double d = sqrt((P[0] - X[0]) * (P[0] - X[0]) + (P[1] - X[1]) * (P[1] - X[1]) +
+                            (P[2] - X[2]) * (P[2] - X[2]));
+            if (d < 1e-9 && u > -1e-9 && u < 1 + 1e-9 && v > -1e-9 && v < 1 + 1e-9)
+                return 1;
+        }
+    return 0;
+}
+
+/* Distance from X to the nearest polyline segment of r's curves. */
+static double curve_dist(const cb_ssi_result_t r, const double X[3])
+{
+    double best = HUGE_VAL;
+    for (slong c = 0; c < r->n_curves; c++)
+        for (slong q = 0; q + 1 < r->curve[c].n; q++) {
+            const double *p0 = r->curve[c].pt[q].xyz, *p1 = r->curve[c].pt[q + 1].xyz;
+            double d[3], w[3], dd = 0, dw = 0;
+            for (int k = 0; k < 3; k++) {
+                d[k] = p1[k] - p0[k];
+                w[k] = X[k] - p0[k];
+                dd += d[k] * d[k];
+                dw += d[k] * w[k];
+            }
+            double t = dd > 0 ? fmin(1, fmax(0, dw / dd)) : 0, e = 0;
+            for (int k = 0; k < 3; k++)
+                e += (w[k] - t * d[k]) * (w[k] - t * d[k]);
+            best = fmin(best, sqrt(e));
+        }
+    return best;
+}
+
+/* The paper's Example 2 pair (appendix A), P folding over itself, with max_phi_degree 27 (phi
+ * has bidegree (27, 24)): the algebraic route certifies it. Checked against a reference made
+ * without the SSI: on 199 lines s = const of Q's domain the sign changes of F(Q(s, t)) (F the
+ * implicit equation, test_ssi_dixon.c) bracket the points of P's surface, kept when a Newton
+ * search finds them a preimage in P's box; each must lie within the chord of an output curve.
+ * Every output point lies on both surfaces and in both domains; every curve end lies on a
+ * domain's side or is shared with another curve (a node). Two branches cross at a node where
+ * the curve meets P's self-intersection; before the samples were placed from the middle of a
+ * curve, the node's preimage on the other sheet was continued along, and a branch inside P's
+ * box was dropped with status OK (174 of 860 reference points missed). */
+static void test_example2_pair(void)
+{
+    cb_nurbs_surface_t P, Q;
+    cb_nurbs_surface_init(P);
+    cb_nurbs_surface_init(Q);
+    cb_error err;
+    cb_status st = cb_model_paper_example2(P, Q, &err);
+    CHECK(st == CB_OK, "example 2: %s", err.msg);
+    cb_ssi_opts o;
+    cb_ssi_opts_default(&o);
+    o.max_phi_degree = 27;
+    cb_ssi_result_t r;
+    run(r, P, Q, &o, "example 2, algebraic");
+    CHECK(r->status == CB_OK && r->n_failed == 0 && r->pairs_subdivided == 0 && r->n_curves > 0,
+          "example 2: status %d, %ld failed, %ld subdivided, %ld curves", r->status,
+          (long)r->n_failed, (long)r->pairs_subdivided, (long)r->n_curves);
+    CHECK(max_dist(r, P, Q) <= r->tol, "example 2: distance %g", max_dist(r, P, Q));
+    int outside = 0, loose = 0;
+    const double eps = 1e-9;
+    for (slong c = 0; c < r->n_curves; c++) {
+        const cb_ssi_curve *cv = r->curve + c;
+        for (slong i = 0; i < cv->n; i++) {
+            const double *a = cv->pt[i].uv_a, *b = cv->pt[i].uv_b;
+            outside += a[0] < -eps || a[0] > 1 + eps || a[1] < -eps || a[1] > 1 + eps ||
+                       b[0] < -1 - eps || b[0] > 1 + eps || b[1] < -eps || b[1] > 2 + eps;
+        }
+        for (int e = 0; e < 2 && !cv->closed; e++) {
+            const cb_ssi_point *p = cv->pt + (e ? cv->n - 1 : 0);
+            int side = fabs(p->uv_a[0]) < eps || fabs(p->uv_a[0] - 1) < eps ||
+                       fabs(p->uv_a[1]) < eps || fabs(p->uv_a[1] - 1) < eps ||
+                       fabs(p->uv_b[0] + 1) < eps || fabs(p->uv_b[0] - 1) < eps ||
+                       fabs(p->uv_b[1]) < eps || fabs(p->uv_b[1] - 2) < eps;
+            int shared = 0;
+            for (slong d = 0; d < r->n_curves && !side && !shared; d++)
+                for (int f = 0; f < 2 && !shared; f++) {
+                    const cb_ssi_point *q = r->curve[d].pt + (f ? r->curve[d].n - 1 : 0);
+                    shared = (d != c || f != e) && !memcmp(q->xyz, p->xyz, sizeof q->xyz);
+                }
+            loose += !side && !shared;
+        }
+    }
+    CHECK(outside == 0 && loose == 0,
+          "example 2: %d points outside the domains, %d curve ends inside both and unshared",
+          outside, loose);
+
+    cb_dixon_patch_t dp, dq;
+    cb_dixon_pencil_t D;
+    cb_implicit_t F;
+    cb_dixon_patch_init(dp);
+    cb_dixon_patch_init(dq);
+    cb_dixon_pencil_init(D);
+    cb_implicit_init(F);
+    st = cb_dixon_patch_set_bezier(dp, P, &err);
+    if (st == CB_OK)
+        st = cb_dixon_pencil_set(D, dp, &err);
+    if (st == CB_OK)
+        st = cb_implicit_from_dixon(F, D, dp, &err);
+    if (st == CB_OK)
+        st = cb_dixon_patch_set_bezier(dq, Q, &err);
+    CHECK(st == CB_OK, "example 2 reference: %s", err.msg);
+    int nref = 0, missed = 0;
+    /* The default chord is 1e-3 of the model size, the tolerance 1e-6 of it. */
+    double far = 0, chord = 1e3 * r->tol;
+    for (int i = 1; i < 200 && st == CB_OK; i++) {
+        double sl = i / 200.0, prev = cb_phi_eval_direct_d(F, dq, sl, 0);
+        for (int j = 1; j <= 2000; j++) {
+            double lo = (j - 1) / 2000.0, hi = j / 2000.0, f = cb_phi_eval_direct_d(F, dq, sl, hi);
+            if ((prev < 0) != (f < 0)) {
+                double flo = prev;
+                for (int k = 0; k < 60; k++) {
+                    double m = 0.5 * (lo + hi), fm = cb_phi_eval_direct_d(F, dq, sl, m);
+                    if ((fm < 0) == (flo < 0)) {
+                        lo = m;
+                        flo = fm;
+                    } else {
+                        hi = m;
+                    }
+                }
+                double X[3];
+                cb_nurbs_surface_eval(X, Q, 2 * sl - 1, 2 * lo);
+                if (paper_p_inside(X)) {
+                    double d = curve_dist(r, X);
+                    nref++;
+                    far = fmax(far, d);
+                    missed += d > 2 * chord;
+                }
+            }
+            prev = f;
+        }
+    }
+    CHECK(nref > 400 && missed == 0, "example 2: %d of %d reference points farther than %g from "
+          "the curves (farthest %g)", missed, nref, 2 * chord, far);
+    cb_dixon_patch_clear(dp);
+    cb_dixon_patch_clear(dq);
+    cb_dixon_pencil_clear(D);
+    cb_implicit_clear(F);
+    cb_ssi_result_clear(r);
+    cb_nurbs_surface_clear(P);
+    cb_nurbs_surface_clear(Q);
+}
+
 /* A rational bicubic (weight 2 at one inner control point, a bump) against a tilted plane
  * above its flat part: one closed curve around the bump, by the subdivision route, every point
  * on both. */
@@ -642,6 +826,7 @@ int main(void)
     test_small_loop();
     test_rational();
     test_touch_exact();
+    test_example2_pair();
     test_coincident();
     test_hummingbird();
     test_fallback();
