@@ -14,7 +14,8 @@
 
 static const char SSI_USAGE[] =
     "usage: colibri ssi A.step B.step [--json OUT.json] [--svg DIR] [--tol T] [--threads N]\n"
-    "                   [--quiet] [--rotate-b AX AY AZ DEG] [--translate-b X Y Z]\n"
+    "                   [--max-phi-degree D] [--quiet] [--rotate-b AX AY AZ DEG]\n"
+    "                   [--translate-b X Y Z]\n"
     "\n"
     "Intersects every face of A with every face of B whose boxes overlap, with the\n"
     "topology-guaranteed surface/surface intersection, and prints the counts: curves,\n"
@@ -42,6 +43,10 @@ static const char SSI_USAGE[] =
     "  --tol T      distance of every output point to both surfaces (default 1e-6 times\n"
     "               the diagonal of the models' box)\n"
     "  --threads N  threads for patch pairs (default 0: all hardware threads)\n"
+    "  --max-phi-degree D  highest degree of phi = F(Q) in s or t that the algebraic route\n"
+    "               takes (default 12); pairs above it take the subdivision route (B-spline\n"
+    "               pairs) or are listed not certified. The paper's Example 2 needs 27 (about\n"
+    "               6 s); the topology's time grows fast with it\n"
     "  --quiet      print nothing on stdout (the exit status and --json OUT still tell);\n"
     "               errors still go to stderr\n"
     "  --rotate-b AX AY AZ DEG  turn B by DEG degrees about the axis (AX, AY, AZ) through\n"
@@ -149,6 +154,15 @@ int cb_cli_ssi(int argc, char **argv)
         } else if (!strcmp(a, "--threads") && i + 1 < argc) {
             if (cb_cli_threads_arg(&o.threads, argv[++i]))
                 return 2;
+        } else if (!strcmp(a, "--max-phi-degree") && i + 1 < argc) {
+            char *end;
+            long d = strtol(argv[++i], &end, 10);
+            if (end == argv[i] || *end || d < 1 || d > 64) {
+                fprintf(stderr, "colibri ssi: --max-phi-degree needs a degree in [1, 64], not "
+                                "'%s'\n", argv[i]);
+                return 2;
+            }
+            o.max_phi_degree = d;
         } else if (!strcmp(a, "--quiet")) {
             quiet = 1;
         } else if ((moved = cb_cli_move_parse(&move, argc, argv, &i, "ssi")) != 0) {

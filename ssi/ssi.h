@@ -92,10 +92,12 @@ typedef struct {
     double chord; /* largest distance of a polyline chord's midpoint from the curve (sagitta);
                      <= 0: 1e-3 times the model size */
     int threads;  /* patch pairs run on at most this many threads (0: all, 1: serial) */
-    slong max_phi_degree; /* pairs whose phi has a degree in s or t above this are reported
-                             not certified (CB_ERR_UNSUPPORTED) without running the topology
-                             stage; default 12, the bidegree a torus gives with a bicubic
-                             patch. Raise it as the topology stage scales. */
+    slong max_phi_degree; /* pairs whose phi has a degree in s or t above this (its true
+                             bidegree, computed exactly) do not run the topology stage: a
+                             B-spline pair takes the subdivision route, others are reported
+                             not certified (CB_ERR_UNSUPPORTED); default 12, the bidegree a
+                             torus gives with a bicubic patch; the paper's Example 2 needs 27
+                             (about 6 s) */
     cb_ctopo_opts topo;   /* passed to cb_ctopo_compute; defaults of cb_ctopo_opts_default */
     int spline_max_depth; /* subdivision route: sub-patches are not split below parameter
                              width 2^-spline_max_depth of their Bezier patch; default 20 */

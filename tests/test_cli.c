@@ -493,6 +493,10 @@ static void test_ssi_flags(void)
     cli_expect(args, 2, "--rotate-b: the axis is zero");
     snprintf(args, sizeof args, "ssi %s %s --translate-b 1 2", a, b);
     cli_expect(args, 2, "--translate-b needs 3 numbers");
+    snprintf(args, sizeof args, "ssi %s %s --max-phi-degree 0", a, b);
+    cli_expect(args, 2, "--max-phi-degree needs a degree in [1, 64]");
+    snprintf(args, sizeof args, "ssi %s %s --max-phi-degree 18 --quiet", a, b);
+    cli_expect(args, 0, "");
     snprintf(args, sizeof args, "ssi %s %s --tol inf", a, b);
     cli_expect(args, 2, "--tol needs a positive number");
     snprintf(args, sizeof args, "ssi %s %s --threads", a, b);
