@@ -77,6 +77,7 @@ typedef struct {
     long pairs_out[2], curves[2], points[2]; /* before, after trimming */
     long total, culled, empty, certified, failed, subdivided, subpairs;
     long failed_face_pairs;
+    long coincident; /* face pairs found on one surface: no curve, by design (cb_ssi_coincident) */
     double dist_a, dist_b, length; /* length of the trimmed curves, file units */
     int same[2];                   /* 1 and 2 threads bit-identical: before, after trimming */
     char failures[600];            /* what the uncertified pairs are, or the error */
@@ -288,6 +289,7 @@ static int case_mode(int k, int runs, const char *dir)
         o.failed = (long)R->n_failed;
         o.subdivided = (long)R->pairs_subdivided;
         o.subpairs = (long)R->subpairs;
+        o.coincident = (long)R->n_coincident;
         o.dist_a = R->max_dist_a;
         o.dist_b = R->max_dist_b;
         o.same[0] = same(r[0], r[1]);
@@ -379,11 +381,12 @@ static void json_colibri(FILE *f, const colibri_row *o, long peak, long base)
                "\"isolated_points\": [%ld, %ld], \"patch_pairs\": {\"total\": %ld, "
                "\"culled\": %ld, \"proved_empty\": %ld, \"certified\": %ld, "
                "\"not_certified\": %ld, \"not_certified_face_pairs\": %ld, \"subdivision\": %ld, "
-               "\"sub_patch_pairs\": %ld}, \"max_dist_a\": %.3g, \"max_dist_b\": %.3g, "
-               "\"length_mm\": %.9g, \"identical_1_2_threads\": [%s, %s], ",
+               "\"sub_patch_pairs\": %ld}, \"coincident_face_pairs\": %ld, "
+               "\"max_dist_a\": %.3g, \"max_dist_b\": %.3g, \"length_mm\": %.9g, "
+               "\"identical_1_2_threads\": [%s, %s], ",
             o->pairs_out[0], o->pairs_out[1], o->curves[0], o->curves[1], o->points[0],
             o->points[1], o->total, o->culled, o->empty, o->certified, o->failed,
-            o->failed_face_pairs, o->subdivided, o->subpairs, o->dist_a, o->dist_b,
+            o->failed_face_pairs, o->subdivided, o->subpairs, o->coincident, o->dist_a, o->dist_b,
             o->length * o->unit_mm, o->same[0] ? "true" : "false", o->same[1] ? "true" : "false");
     json_mib(f, "peak_mib", peak);
     fputs(", ", f);
@@ -507,8 +510,10 @@ int main(int argc, char **argv)
                c->deg, c->centre[0], c->centre[1], c->centre[2], t[0], t[1], t[2], o.tol,
                o.unit_mm, o.faces_a, o.faces_b);
         printf("    1 and 2 threads bit-identical: %s before trimming, %s after; isolated points "
-               "%ld before trimming; proved empty %ld\n",
-               o.same[0] ? "yes" : "NO", o.same[1] ? "yes" : "NO", o.points[0], o.empty);
+               "%ld before trimming; patch pairs proved empty %ld; face pairs on one surface (no "
+               "curve) %ld\n",
+               o.same[0] ? "yes" : "NO", o.same[1] ? "yes" : "NO", o.points[0], o.empty,
+               o.coincident);
         printf("    peak memory: Colibri %.1f MiB (reading only %.1f)", mib(peak), mib(base));
         if (occt)
             printf("; OCCT serial %.1f, parallel %.1f MiB (reading only %.1f)", mib(oc[0].peak),
