@@ -14,10 +14,9 @@
  * (the file is in cm); the Cardan fork against the cross moved by (-100, 0, 0); linkrods
  * against itself turned 30 degrees about the centre of its box.
  *
- * Peak memory: ru_maxrss is a high-water mark of a whole process, so every case runs in a fresh
- * process (this program started again with --case) started by posix_spawn and read by wait4,
- * as in bench_scenarios.c (which says why not fork); beside it, the peak of a process that only
- * reads the two files. OCCT's figures come the same way from occt_section.
+ * Peak memory: every case runs in a fresh process (this program started again with --case;
+ * bench_spawn.h says why), beside the peak of a process that only reads the two files. OCCT's
+ * figures come the same way from occt_section.
  *
  * Usage: bench_ssi_models [RUNS] [--shared DIR] [--occt OCCT_SECTION] [--json OUT]
  *                         [--only CASE]
@@ -26,21 +25,16 @@
  * Internal: bench_ssi_models --case K RUNS DIR   (RUNS 0: only read the files) */
 #define _DEFAULT_SOURCE /* wait4: the rusage of one child, not of all of them */
 #include <math.h>
-#include <spawn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
+#include "bench/bench_spawn.h"
 #include "bench/bench_stats.h"
 #include "boolean/bool.h"
 #include "io/json.h"
 #include "io/step.h"
 #include "ssi/ssi.h"
-
-extern char **environ;
 
 typedef struct {
     const char *name, *a, *b; /* case, and the two files in DIR/models */
@@ -89,47 +83,6 @@ typedef struct {
     double t[3], length; /* seconds; mm */
     long peak;
 } occt_row;
-
-/* ---------------------------------------------------------------- children ----------------- */
-
-/* Starts argv[0] with stdout into a pipe, reads at most cap bytes of it into out (*got of
- * them), waits for it and returns its exit status (-1: could not start or killed); *peak_kib
- * its ru_maxrss. */
-static int spawn_read(void *out, size_t cap, size_t *got, char *const argv[], long *peak_kib)
-{
-    int fd[2];
-    *peak_kib = -1;
-    *got = 0;
-    if (pipe(fd))
-        return -1;
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_adddup2(&fa, fd[1], 1);
-    posix_spawn_file_actions_addclose(&fa, fd[0]);
-    posix_spawn_file_actions_addclose(&fa, fd[1]);
-    pid_t pid;
-    int rc = posix_spawn(&pid, argv[0], &fa, NULL, argv, environ);
-    posix_spawn_file_actions_destroy(&fa);
-    close(fd[1]);
-    if (rc) {
-        close(fd[0]);
-        return -1;
-    }
-    ssize_t n;
-    while (*got < cap && (n = read(fd[0], (char *)out + *got, cap - *got)) > 0)
-        *got += (size_t)n;
-    /* Drain what did not fit so that the child never blocks on a full pipe. */
-    char sink[4096];
-    while (read(fd[0], sink, sizeof sink) > 0)
-        ;
-    close(fd[0]);
-    int status;
-    struct rusage ru;
-    if (wait4(pid, &status, 0, &ru) != pid)
-        return -1;
-    *peak_kib = ru.ru_maxrss;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 /* ---------------------------------------------------------------- the Colibri side --------- */
 
@@ -443,9 +396,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_ssi_models: cannot write %s\n", json_path);
         return 1;
     }
-    /* The children are this program: its path as started. */
-    char self[1024], ks[16], rs[16], zero[] = "0", flag[] = "--case", dirbuf[1024];
-    snprintf(self, sizeof self, "%s", argv[0]);
+    char self[] = "/proc/self/exe", ks[16], rs[16], zero[] = "0", flag[] = "--case", dirbuf[1024];
     snprintf(rs, sizeof rs, "%d", runs);
     snprintf(dirbuf, sizeof dirbuf, "%s", dir);
     printf("SSI of STEP models against moved copies, %d run%s each; Colibri's time is "
