@@ -8,35 +8,28 @@
  *
  * Peak memory: ru_maxrss is a high-water mark of a whole process, so every case runs in a fresh
  * process (this program started again with --case, or occt_bool with one operation) and its
- * figure is read by wait4 when it ends. Children are started by posix_spawn, not fork: a forked
- * child's page tables copy the parent's resident memory, and the kernel carries that over exec
- * into the child's ru_maxrss. Beside each figure, the peak of a process that only builds the
- * scenario (Colibri) or only reads the two STEP files (OCCT): the operation's own share is the
- * difference.
+ * figure is read by wait4 when it ends (bench_spawn.h). Beside each figure, the peak of a
+ * process that only builds the scenario (Colibri) or only reads the two STEP files (OCCT): the
+ * operation's own share is the difference.
  *
  * Usage: bench_scenarios [RUNS [OCCT_BOOL [JSON_OUT]]]   (RUNS default 3; "-" for no OCCT)
  * Internal: bench_scenarios --case K OP RUNS   (OP -1: build scenario K only)
  *           bench_scenarios --step K DIR       (write its two operands as DIR/NAME_{a,b}.step) */
 #define _DEFAULT_SOURCE /* wait4: the rusage of one child, not of all of them */
 #include <math.h>
-#include <spawn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
 #include "boolean/bool.h"
 #include "brep/mass.h"
+#include "bench/bench_spawn.h"
 #include "bench/bench_stats.h"
 #include "io/json.h"
 #include "io/step_write.h"
 #include "models/models.h"
-
-extern char **environ;
-
 
 /* One side's figures for one case. t[k]: median, min, max seconds on k + 1 threads (OCCT: its
  * parallel mode, in t[0] only). peak, base: KiB of the case's process and of the process that
@@ -50,44 +43,13 @@ typedef struct {
 
 /* ---------------------------------------------------------------- children ----------------- */
 
-/* Starts argv[0] with stdout into a pipe, reads at most cap - 1 bytes of it into out, waits for
- * it and returns its exit status (-1: could not start or killed); *peak_kib its ru_maxrss. */
-static int spawn_read(char *out, size_t cap, char *const argv[], long *peak_kib)
+/* spawn_read's output as a string (at most cap - 1 bytes). */
+static int spawn_text(char *out, size_t cap, char *const argv[], long *peak_kib)
 {
-    int fd[2];
-    *peak_kib = -1;
-    out[0] = 0;
-    if (pipe(fd))
-        return -1;
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_adddup2(&fa, fd[1], 1);
-    posix_spawn_file_actions_addclose(&fa, fd[0]);
-    posix_spawn_file_actions_addclose(&fa, fd[1]);
-    pid_t pid;
-    int rc = posix_spawn(&pid, argv[0], &fa, NULL, argv, environ);
-    posix_spawn_file_actions_destroy(&fa);
-    close(fd[1]);
-    if (rc) {
-        close(fd[0]);
-        return -1;
-    }
-    size_t n = 0;
-    ssize_t got;
-    while (n < cap - 1 && (got = read(fd[0], out + n, cap - 1 - n)) > 0)
-        n += (size_t)got;
-    out[n] = 0;
-    /* Drain what did not fit so that the child never blocks on a full pipe. */
-    char sink[4096];
-    while (read(fd[0], sink, sizeof sink) > 0)
-        ;
-    close(fd[0]);
-    int status;
-    struct rusage ru;
-    if (wait4(pid, &status, 0, &ru) != pid)
-        return -1;
-    *peak_kib = ru.ru_maxrss;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    size_t got;
+    int rc = spawn_read(out, cap - 1, &got, argv, peak_kib);
+    out[got] = 0;
+    return rc;
 }
 
 /* --case K OP RUNS: builds scenario k and prints "NAME REF0 REF1 REF2 BAR0 BAR1 BAR2"; with
@@ -181,7 +143,7 @@ static int run_colibri(scenario_row *row, int k, int runs)
     snprintf(rs, sizeof rs, "%d", runs);
     snprintf(ops, sizeof ops, "-1");
     long base;
-    if (spawn_read(out, sizeof out, argv, &base) != 0 ||
+    if (spawn_text(out, sizeof out, argv, &base) != 0 ||
         sscanf(out, "%63s %lf %lf %lf %lf %lf %lf", row->name, row->ref, row->ref + 1,
                row->ref + 2, row->bar, row->bar + 1, row->bar + 2) != 7)
         return 0;
@@ -191,7 +153,7 @@ static int run_colibri(scenario_row *row, int k, int runs)
         c->volume = NAN;
         c->base = base;
         snprintf(ops, sizeof ops, "%d", op);
-        int st = spawn_read(out, sizeof out, argv, &c->peak);
+        int st = spawn_text(out, sizeof out, argv, &c->peak);
         const char *l2 = strchr(out, '\n');
         if (st != 0 || !l2 ||
             sscanf(l2 + 1, "%d %d %lf %lf %lf %lf %lf %lf %lf", &c->done, &c->valid,
@@ -221,7 +183,7 @@ static void run_occt(side o[3], const char *occt, const char *a, const char *b, 
     char *argv[] = {occt_path, rs, pa, pb, opname, NULL};
     long base;
     snprintf(opname, sizeof opname, "none");
-    if (spawn_read(out, sizeof out, argv, &base) != 0)
+    if (spawn_text(out, sizeof out, argv, &base) != 0)
         base = -1;
     for (int k = 0; k < 3; k++) {
         memset(o + k, 0, sizeof *o);
@@ -231,7 +193,7 @@ static void run_occt(side o[3], const char *occt, const char *a, const char *b, 
         char op[32];
         int error, valid, faces;
         double ms[3], v;
-        if (spawn_read(out, sizeof out, argv, &o[k].peak) != 0 ||
+        if (spawn_text(out, sizeof out, argv, &o[k].peak) != 0 ||
             sscanf(out, "%31s %lf %lf %lf %d %d %d %lf", op, ms, ms + 1, ms + 2, &error, &valid,
                    &faces, &v) != 8) {
             snprintf(o[k].msg, sizeof o[k].msg, "the comparator failed");
@@ -419,7 +381,7 @@ int main(int argc, char **argv)
             char pa[512], pb[512];
             snprintf(pa, sizeof pa, "%s/%s_a.step", dir, row->name);
             snprintf(pb, sizeof pb, "%s/%s_b.step", dir, row->name);
-            row->have_occt = spawn_read(out, sizeof out, sargv, &peak) == 0;
+            row->have_occt = spawn_text(out, sizeof out, sargv, &peak) == 0;
             if (row->have_occt)
                 run_occt(row->o, occt, pa, pb, runs);
             remove(pa);
