@@ -659,7 +659,8 @@ static void place_sample(sample *S, const sample *prev, const _cb_ssi_trace_curv
         /* A patch's parameterisation continued past its box may cover its surface again (a
          * rational quarter circle's extends to the whole circle; a polynomial patch folds):
          * followed from one preimage, the parameters may reach a point of the patch by
-         * another, outside the box. The inversion prefers the preimage inside. */
+         * another, outside the box. The Dixon inversion finds every preimage and prefers
+         * one inside. */
         _cb_ssi_pq alt = {{0, 0}, {tc->st[2 * i], tc->st[2 * i + 1]}, tc->fixed[i]};
         double Xa[3];
         p_start(alt.uv, g, X);
@@ -683,18 +684,21 @@ static cb_status clip_curve(_cb_ssi_piece_set *out, const _cb_ssi_trace_curve *t
     sample *S = malloc((size_t)(n + 1) * sizeof(sample));
     if (!S)
         return CB_ERR_NOMEM;
-    int p_spline = !g->p_analytic;
-    /* Samples are placed from the middle of the curve outwards, each continued from its
-     * neighbour towards the middle: an end may be a node where the curve crosses P's
-     * self-intersection (the paper's Example 2), whose preimages on both sheets lie inside
-     * the box; continued from the curve's inside, it gets the preimage of its own sheet. */
-    slong mid = n / 2;
-    for (slong k = 0; k < n; k++) {
-        slong i = k == 0 ? mid : (k <= mid ? mid - k : k), from = i < mid ? i + 1 : i - 1;
-        if (k > mid && i == mid)
-            continue;
-        place_sample(S + i, k == 0 ? NULL : S + from, tc, i, g, p_spline);
-    }
+    /* A curved spline P (with a Dixon pencil) may cover a point by several preimages; a
+     * planar one (no pencil) keeps the preimages its continuation finds (re-placing them cost
+     * trj5's plane against rod pairs 25 s each, densified to 1e-7 between sheets). */
+    int p_spline = !g->p_analytic && g->p_pencil;
+    /* For a curved spline P, samples are placed from the middle of the curve outwards, each
+     * continued from its neighbour towards the middle: an end may be a node where the curve
+     * crosses P's self-intersection (the paper's Example 2), whose preimages on both sheets
+     * lie inside the box; continued from the curve's inside, it gets the preimage of its own
+     * sheet. Otherwise from the first sample on. */
+    slong mid = p_spline ? n / 2 : 0;
+    place_sample(S + mid, NULL, tc, mid, g, p_spline);
+    for (slong i = mid - 1; i >= 0; i--)
+        place_sample(S + i, S + i + 1, tc, i, g, p_spline);
+    for (slong i = mid + 1; i < n; i++)
+        place_sample(S + i, S + i - 1, tc, i, g, p_spline);
     /* The point where the curve leaves the box is sought between an inside sample and its
      * outside neighbour, along their parameters: both must be on one sheet. An outside
      * neighbour is placed again from the inside sample's parameters. */
