@@ -12,6 +12,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench/bench_ssi_same.h"
 #include "models/models.h"
 #include "ssi/ssi.h"
 
@@ -28,20 +29,6 @@ static double face_dist(const cb_topo_body *b, int face, const double uv[2], con
     cb_nurbs_surface_eval(p, b->surfaces[b->faces[face].surface].nurbs, uv[0], uv[1]);
     return sqrt((p[0] - X[0]) * (p[0] - X[0]) + (p[1] - X[1]) * (p[1] - X[1]) +
                 (p[2] - X[2]) * (p[2] - X[2]));
-}
-
-static int same(const cb_ssi_result_t a, const cb_ssi_result_t b)
-{
-    if (a->n_curves != b->n_curves || a->n_points != b->n_points || a->n_failed != b->n_failed)
-        return 0;
-    for (slong c = 0; c < a->n_curves; c++) {
-        if (a->curve[c].n != b->curve[c].n || a->curve[c].face_a != b->curve[c].face_a ||
-            a->curve[c].face_b != b->curve[c].face_b)
-            return 0;
-        if (memcmp(a->curve[c].pt, b->curve[c].pt, (size_t)a->curve[c].n * sizeof(cb_ssi_point)))
-            return 0;
-    }
-    return 1;
 }
 
 int main(int argc, char **argv)
@@ -154,8 +141,8 @@ int main(int argc, char **argv)
     printf("curve ends: %ld, without a continuation: %ld\n", (long)ends, (long)lonely);
     printf("largest distance of a curve point to its faces: %.2e (tol %.2e): %s\n", dmax, R->tol,
            dmax <= R->tol ? "ok" : "FAILED");
-    printf("1 vs 2 threads identical: %s; 1 vs all: %s\n", same(r[0], r[1]) ? "yes" : "NO",
-           same(r[0], r[2]) ? "yes" : "NO");
+    printf("1 vs 2 threads identical: %s; 1 vs all: %s\n",
+           bench_ssi_same(r[0], r[1]) ? "yes" : "NO", bench_ssi_same(r[0], r[2]) ? "yes" : "NO");
     free(hit);
     for (int k = 0; k < 3; k++)
         cb_ssi_result_clear(r[k]);

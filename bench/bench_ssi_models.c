@@ -30,6 +30,7 @@
 #include <string.h>
 
 #include "bench/bench_spawn.h"
+#include "bench/bench_ssi_same.h"
 #include "bench/bench_stats.h"
 #include "boolean/bool.h"
 #include "io/json.h"
@@ -85,23 +86,6 @@ typedef struct {
 } occt_row;
 
 /* ---------------------------------------------------------------- the Colibri side --------- */
-
-static int same(const cb_ssi_result_t a, const cb_ssi_result_t b)
-{
-    if (a->n_curves != b->n_curves || a->n_points != b->n_points || a->n_failed != b->n_failed)
-        return 0;
-    for (slong c = 0; c < a->n_curves; c++) {
-        if (a->curve[c].n != b->curve[c].n || a->curve[c].face_a != b->curve[c].face_a ||
-            a->curve[c].face_b != b->curve[c].face_b)
-            return 0;
-        if (memcmp(a->curve[c].pt, b->curve[c].pt, (size_t)a->curve[c].n * sizeof(cb_ssi_point)))
-            return 0;
-    }
-    for (slong p = 0; p < a->n_points; p++)
-        if (memcmp(&a->point[p].p, &b->point[p].p, sizeof(cb_ssi_point)))
-            return 0;
-    return 1;
-}
 
 static int cmp_pair(const void *x, const void *y)
 {
@@ -245,7 +229,7 @@ static int case_mode(int k, int runs, const char *dir)
         o.coincident = (long)R->n_coincident;
         o.dist_a = R->max_dist_a;
         o.dist_b = R->max_dist_b;
-        o.same[0] = same(r[0], r[1]);
+        o.same[0] = bench_ssi_same(r[0], r[1]);
         describe_failures(&o, r[1], body[0], body[1]);
         for (int th = 0; th < 2 && st == CB_OK; th++) {
             double t0 = now();
@@ -258,7 +242,7 @@ static int case_mode(int k, int runs, const char *dir)
         o.curves[1] = (long)r[1]->n_curves;
         o.points[1] = (long)r[1]->n_points;
         o.length = polyline_length(r[1]);
-        o.same[1] = same(r[0], r[1]);
+        o.same[1] = bench_ssi_same(r[0], r[1]);
     }
     o.ok = st == CB_OK;
     if (!o.ok)
