@@ -14,8 +14,9 @@
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepGProp.hxx>
 #include <GProp_GProps.hxx>
-#include <STEPControl_Reader.hxx>
 #include <TopExp_Explorer.hxx>
+
+#include "bench/occt_read.hxx"
 
 #include <algorithm>
 #include <chrono>
@@ -24,15 +25,6 @@
 #include <cstring>
 #include <memory>
 #include <vector>
-
-static bool read_step(TopoDS_Shape &shape, const char *path)
-{
-    STEPControl_Reader reader;
-    if (reader.ReadFile(path) != IFSelect_RetDone || reader.TransferRoots() <= 0)
-        return false;
-    shape = reader.OneShape();
-    return !shape.IsNull();
-}
 
 static int count_faces(const TopoDS_Shape &s)
 {

@@ -12,11 +12,12 @@
 #include <BRepBuilderAPI_Transform.hxx>
 #include <BRepGProp.hxx>
 #include <GProp_GProps.hxx>
-#include <STEPControl_Reader.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <gp_Ax1.hxx>
 #include <gp_Trsf.hxx>
+
+#include "bench/occt_read.hxx"
 
 #include <algorithm>
 #include <chrono>
@@ -25,15 +26,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <vector>
-
-static bool read_step(TopoDS_Shape &shape, const char *path)
-{
-    STEPControl_Reader reader;
-    if (reader.ReadFile(path) != IFSelect_RetDone || reader.TransferRoots() <= 0)
-        return false;
-    shape = reader.OneShape();
-    return !shape.IsNull();
-}
 
 int main(int argc, char **argv)
 {
