@@ -48,6 +48,57 @@ cb_status cb_model_overlap_estimate(cb_overlap_estimate *e, const cb_topo_body *
  * cb_nurbs_surface_alloc. */
 cb_status cb_model_paper_example2(cb_nurbs_surface_t P, cb_nurbs_surface_t Q, cb_error *err);
 
+/* ---------------------------------------------------------------- graph pairs -------------- */
+
+/* Largest degree in each variable of a cb_model_poly. */
+#define CB_MODEL_POLY_DEG 8
+
+/* The integer polynomial sum c[i][j] u^i v^j. overflow: some operation that built it left the
+ * 64-bit integers (the coefficients are then meaningless). */
+typedef struct {
+    long long c[CB_MODEL_POLY_DEG + 1][CB_MODEL_POLY_DEG + 1];
+    int overflow;
+} cb_model_poly;
+
+/* a u + b v + c */
+cb_model_poly cb_model_poly_linear(long long a, long long b, long long c);
+/* a b; terms beyond CB_MODEL_POLY_DEG set overflow */
+cb_model_poly cb_model_poly_mul(const cb_model_poly *a, const cb_model_poly *b);
+/* a + k b */
+cb_model_poly cb_model_poly_add(const cb_model_poly *a, const cb_model_poly *b, long long k);
+/* (a u - b)^2 + (a v - c)^2 - r2: the circle of radius sqrt(r2) / a about (b / a, c / a), or
+ * for r2 = 0 the point (a double root, an isolated zero) */
+cb_model_poly cb_model_poly_circle(long long a, long long b, long long c, long long r2);
+double cb_model_poly_eval(const cb_model_poly *p, double u, double v);
+
+/* A graph pair (the SSI issue's test surfaces): over the square (u, v) in [0, 1]^2 of the xy
+ * plane, P is the graph of S f, f(u, v) = (u - 1/2)(v - 1/2) + (u - 1/2)^2 / 2 - (v - 1/2)^2 / 4,
+ * and Q the graph of S (f + h / 2^height_shift), both moved by one rigid motion (a third of a
+ * turn about (1, 1, 1), then a translation). So P and Q meet exactly where h vanishes, lifted
+ * to P: cb_model_graph_point. S in [1/2, 1) is an odd integer times a power of two that makes
+ * every control point exact in binary, so tangencies designed into h (double roots) are
+ * tangencies of the stored surfaces. */
+typedef struct {
+    double scale;     /* S */
+    int height_shift; /* |h| / 2^height_shift <= 1/4 on the square */
+} cb_model_graph;
+
+/* The interior knots: P's (u, v) = (9/16, 5/16), Q's (s, t) = (13/16, -5/32), that is
+ * y = 19/32 and x = 27/64 (one per direction, so that Bezier extraction stays exact). */
+#define CB_MODEL_GRAPH_KNOT_P ((const double[2]){0.5625, 0.3125})
+#define CB_MODEL_GRAPH_KNOT_Q ((const double[2]){0.8125, -0.15625})
+
+/* P: biquadratic, parameters (u, v) on [0, 1]^2, with x = u, y = v. Q: parametrised
+ * differently, with its own degrees (those of h, at least 2): its first parameter s in [0, 2]
+ * runs along y reversed (y = 1 - s / 2), its second t in [-1, 1] along x (x = (t + 1) / 2).
+ * Each has one interior knot per direction (above). P and Q must be initialised.
+ * CB_ERR_INVALID when h overflowed or its degrees or coefficients are too large for the control
+ * points to be exact; CB_ERR_NOMEM. */
+cb_status cb_model_graph_pair(cb_nurbs_surface_t P, cb_nurbs_surface_t Q, cb_model_graph *g,
+                              const cb_model_poly *h, cb_error *err);
+/* The point of P (moved) over (u, v): where the curve h(u, v) = 0 lies in space. */
+void cb_model_graph_point(double X[3], const cb_model_graph *g, double u, double v);
+
 /* ---------------------------------------------------------------- hummingbird -------------- */
 
 /* The model is built in its own frame (x forward to the beak, y to the left wing, z up), about

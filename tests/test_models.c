@@ -760,6 +760,61 @@ static void test_command(void)
     remove(path);
 }
 
+/* Graph pairs: Q minus P is S h / 2^j along the rotated z axis over every (x, y) of the
+ * square, reached through Q's own parameters; P is the lifted square; P and Q have their one
+ * interior knot per direction; an overflowing h and one too long for doubles are refused. */
+static void test_graph_pair(void)
+{
+    cb_model_poly a = cb_model_poly_circle(4, 2, 2, 1), b = cb_model_poly_linear(3, -2, 1);
+    cb_model_poly h = cb_model_poly_mul(&a, &b);
+    CHECK(cb_model_poly_eval(&h, 0.5, 0.25) == 0 && cb_model_poly_eval(&h, 1, 2) == 0,
+          "graph pair: h vanishes on its circle and line");
+    cb_nurbs_surface_t P, Q;
+    cb_nurbs_surface_init(P);
+    cb_nurbs_surface_init(Q);
+    cb_model_graph g;
+    cb_error err;
+    cb_status st = cb_model_graph_pair(P, Q, &g, &h, &err);
+    CHECK(st == CB_OK, "graph pair: %s", err.msg);
+    if (st == CB_OK) {
+        CHECK(P->deg_u == 2 && P->deg_v == 2 && P->n_u == 4 && P->n_v == 4 && Q->deg_u == 3 &&
+                  Q->deg_v == 3 && Q->n_u == 5 && Q->n_v == 5,
+              "graph pair: degrees (%d %d) (%d %d), nets %d x %d, %d x %d", P->deg_u, P->deg_v,
+              Q->deg_u, Q->deg_v, P->n_u, P->n_v, Q->n_u, Q->n_v);
+        double worst = 0;
+        for (int i = 0; i <= 10; i++)
+            for (int j = 0; j <= 10; j++) {
+                double x = i / 10.0, y = j / 10.0, XP[3], XQ[3], XT[3];
+                cb_nurbs_surface_eval(XP, P, x, y);
+                cb_nurbs_surface_eval(XQ, Q, 2 * (1 - y), 2 * x - 1);
+                cb_model_graph_point(XT, &g, x, y);
+                double dz = g.scale * cb_model_poly_eval(&h, x, y) / ldexp(1, g.height_shift);
+                /* The motion takes z to the first coordinate, x to the second, y to the third. */
+                double e[6] = {XQ[0] - XP[0] - dz, XQ[1] - XP[1], XQ[2] - XP[2],
+                               XP[0] - XT[0], XP[1] - XT[1], XP[2] - XT[2]};
+                for (int k = 0; k < 6; k++)
+                    worst = fmax(worst, fabs(e[k]));
+                if (i == 3 && j == 7)
+                    CHECK(fabs(XP[1] - 0.3 * g.scale + 1.25) < 1e-15 &&
+                              fabs(XP[2] - 0.7 * g.scale - 0.5) < 1e-15,
+                          "graph pair: P over (0.3, 0.7) at (%g, %g)", XP[1], XP[2]);
+            }
+        CHECK(worst < 1e-14, "graph pair: Q - P off S h / 2^j by %g", worst);
+        CHECK(g.scale >= 0.5 && g.scale < 1, "graph pair: scale %g", g.scale);
+    }
+    cb_model_poly big = cb_model_poly_linear(1LL << 26, 0, 1);
+    cb_model_poly big2 = cb_model_poly_mul(&big, &big);
+    cb_model_poly huge = cb_model_poly_mul(&big2, &big2);
+    CHECK(!big2.overflow && huge.overflow, "graph pair: 2^104 overflows, 2^52 does not");
+    st = cb_model_graph_pair(P, Q, &g, &huge, &err);
+    CHECK(st == CB_ERR_INVALID && strstr(err.msg, "overflow"), "graph pair: overflow: %s",
+          err.msg);
+    st = cb_model_graph_pair(P, Q, &g, &big2, &err);
+    CHECK(st == CB_ERR_INVALID && strstr(err.msg, "exact"), "graph pair: long h: %s", err.msg);
+    cb_nurbs_surface_clear(P);
+    cb_nurbs_surface_clear(Q);
+}
+
 int main(void)
 {
     double t0 = seconds();
@@ -774,6 +829,7 @@ int main(void)
     test_bracket();
     test_command();
     test_paper_example2();
+    test_graph_pair();
     printf("models tests: %.2f s\n", seconds() - t0);
     return check_report("models");
 }
