@@ -124,6 +124,8 @@ static slong helping_vertices(cb_ctopo_t T, const cb_bipoly_t rep, const fmpq_t 
         cb_ctopo_vertex_struct *x = T->vertex + id;
         x->s = fmpq_get_d(a);
         x->t = mid_d(iv->lo, iv->hi);
+        x->rank = j;
+        x->count = R->n;
         x->sides = t_sides(t0, t1, iv->lo, iv->hi);
         if (rep->len > 1) {
             int sl, sh;

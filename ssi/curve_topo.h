@@ -137,6 +137,8 @@ typedef struct {
     slong line;      /* index of its critical line in line[], -1 for helping points */
     slong degree;    /* number of edge ends at it */
     slong component; /* index of its connected component */
+    slong rank, count; /* helping points: index from below among the roots on its helping
+                          line, and their number (exact, however close the roots are) */
     fmpq_t s_lo, s_hi, t_lo, t_hi;
     double s, t;
 } cb_ctopo_vertex_struct;

@@ -324,7 +324,17 @@ static cb_status trace_edge(_cb_ssi_trace_curve *out, const cb_ctopo_t T, slong 
             }
         if (n < 0)
             n = 0;
-        if (best_sep < 1e-3 && n_mid > 0) {
+        /* A helping end whose line holds as many roots as the middle: its exact rank is the
+         * branch's (the count is constant between critical lines). Doubles cannot tell the
+         * roots apart there when the helping line lies a round-off distance from a rational
+         * critical value, next to a fold. */
+        const cb_ctopo_vertex_struct *hv = va->kind == CB_CTOPO_HELPING ? va
+                                           : vb->kind == CB_CTOPO_HELPING ? vb
+                                                                          : NULL;
+        if (hv && hv->count == n_mid && n_mid > 0) {
+            best = (int)hv->rank;
+            n = n_mid;
+        } else if (best_sep < 1e-3 && n_mid > 0) {
             /* Both ends ambiguous: at the middle, the root nearest the ends' mean t. */
             sqf_at_s(work, h, 0.5 * (xa + xb));
             n = _cb_ssi_roots01(roots, work, (int)h->dt);
