@@ -292,14 +292,22 @@ static int inside_p(const _cb_ssi_pair_geom *g, const _cb_ssi_pq *pq, double gap
 }
 
 /* Boundary of P's box crossed between a (inside) and b (outside): the crossing with the least
- * interpolation fraction. Sets *dir (0 u, 1 v), *val and returns the fraction, or -1. */
+ * interpolation fraction, among the directions in which b is outside (a curve running along
+ * one side crosses it back and forth by round-off while it leaves through another). Sets *dir
+ * (0 u, 1 v), *val and returns the fraction, or -1. */
 static double crossing(int *dir, double *val, const _cb_ssi_pair_geom *g, const _cb_ssi_pq *a,
                        const _cb_ssi_pq *b)
 {
     double best = -1;
+    int out[2] = {1, 1};
+    if (!g->p_analytic)
+        for (int i = 0; i < 2; i++)
+            out[i] = b->uv[i] < -PARAM_EPS || b->uv[i] > 1 + PARAM_EPS;
+    if (!out[0] && !out[1])
+        out[0] = out[1] = 1;
     for (int i = 0; i < 2; i++) {
         double xa = a->uv[i], xb = b->uv[i];
-        if (xa == xb)
+        if (xa == xb || !out[i])
             continue;
         double lo = g->p_analytic ? g->an_range[2 * i] : 0;
         double hi = g->p_analytic ? g->an_range[2 * i + 1] : 1;
