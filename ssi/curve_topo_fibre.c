@@ -130,7 +130,7 @@ static cb_status state_pin_push(line_state *st, cb_error *err)
 }
 
 /* Bits to which an irrational-looking critical value is refined before its analysis, to
- * recognise a dyadic rational one (see cb_ctopo_fibre_analyse). */
+ * recognise a rational one (see cb_ctopo_fibre_analyse). */
 #define RATIONAL_PROBE_BITS 160
 
 static void range_update(line_state *st)
@@ -1010,18 +1010,22 @@ cb_status cb_ctopo_fibre_analyse(cb_ctopo_fibre_t F, const cb_ctopo_curve_struct
     fmpq_div_2exp(st.w, st.w, 3);
     if (!st.rational) {
         /* An interval that is not a point may still hold a rational alpha (a dyadic one is hit
-         * exactly by bisection, possibly late, when the helping lines would collapse onto it).
-         * Refining to 2^-RATIONAL_PROBE_BITS finds every dyadic alpha of fewer bits; such a
-         * line becomes rational, with helping lines alpha -+ eps inside its isolating interval
-         * (which holds no other critical value), eps a power of two at most a quarter of the
-         * room on either side. */
+         * exactly by bisection, possibly late, when the helping lines would collapse onto it;
+         * others, such as 7/19 where a Bezier patch of a B-spline with a knot at 13/16 meets
+         * a designed feature at a dyadic point, never are). Refined to
+         * 2^-RATIONAL_PROBE_BITS, the interval shows every dyadic alpha of fewer bits, and
+         * its simplest rational every alpha of denominator below 2^(RATIONAL_PROBE_BITS / 2)
+         * (checked exactly); such a line becomes rational, with helping lines alpha -+ eps
+         * inside its isolating interval (which holds no other critical value), eps a power of
+         * two at most a quarter of the room on either side. Two multiple roots over a
+         * rational alpha are handled exactly, over an irrational one not yet. */
         fmpq_t w;
         fmpq_init(w);
         fmpz_one(fmpq_numref(w));
         fmpz_one_2exp(fmpq_denref(w), RATIONAL_PROBE_BITS);
         cb_roots_refine(cv, k, w);
         const cb_root_interval_struct *iv = cv->root + k;
-        if (fmpq_equal(iv->lo, iv->hi)) {
+        if (cb_roots_try_rational(cv, k)) {
             fmpq_t room;
             fmpq_init(room);
             fmpq_sub(room, iv->lo, L->lo);

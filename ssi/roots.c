@@ -311,3 +311,28 @@ double cb_roots_mid_d(const cb_roots_t r, slong k)
     fmpq_clear(mid);
     return d;
 }
+
+int cb_roots_try_rational(cb_roots_t r, slong k)
+{
+    cb_root_interval_struct *iv = &r->root[k];
+    if (fmpq_equal(iv->lo, iv->hi))
+        return 1;
+    fmpq_t q, val;
+    fmpq_init(q);
+    fmpq_init(val);
+    fmpq_simplest_between(q, iv->lo, iv->hi);
+    /* A rational root p / d of an integer polynomial has d dividing the leading coefficient:
+     * most candidates fail that before the exact evaluation. */
+    int rational = 0;
+    if (fmpz_divisible(fmpz_poly_lead(r->sqfree), fmpq_denref(q))) {
+        fmpz_poly_evaluate_fmpq(val, r->sqfree, q);
+        rational = fmpq_is_zero(val);
+    }
+    if (rational) {
+        fmpq_set(iv->lo, q);
+        fmpq_set(iv->hi, q);
+    }
+    fmpq_clear(val);
+    fmpq_clear(q);
+    return rational;
+}

@@ -41,6 +41,11 @@ cb_status cb_roots_isolate(cb_roots_t r, const fmpz_poly_t p, const fmpq_t a, co
  * until the root is hit exactly. */
 void cb_roots_refine(cb_roots_t r, slong k, const fmpq_t width);
 
+/* Whether root k is rational, and if so its interval made that point: the simplest rational in
+ * the interval, checked exactly. A root p / d (lowest terms) is found once the interval is
+ * narrower than 1 / (2 d^2): no other rational of denominator at most d fits in it. */
+int cb_roots_try_rational(cb_roots_t r, slong k);
+
 /* Midpoint of root k's interval, rounded to a double. */
 double cb_roots_mid_d(const cb_roots_t r, slong k);
 
