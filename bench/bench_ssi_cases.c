@@ -5,15 +5,15 @@
  * engine of GeomAPI_IntSS, which also returns its isolated points) on the same two surfaces.
  *
  * The cases (Yang, Jia, Yan, ACM TOG 2023):
- *   - graph pairs of the Fig. 1 classes: P the saddle z = S c (u - 1/2)(v - 1/2) over the square
- *     [0, S]^2 (bilinear), Q the graph z = P + S h(u, v) / 2^k over the same square, so that the
- *     two meet exactly where the designed polynomial h vanishes: crossing loops, an isolated
- *     contact beside two branches, boundary curves, a tangential line between boundary curves,
- *     two loops touching at a point, contact along a whole curve, three isolated contacts, a
- *     loop of radius 1e-3 of the square. Control points are exact in binary: h has integer
- *     coefficients, the Bernstein coefficients are formed in integers, and the whole pair is
- *     scaled by S, the odd part of the Bernstein denominators (the tangencies survive only if
- *     nothing is rounded);
+ *   - graph pairs of the Fig. 1 classes (cb_model_graph_pair, models.h, the surfaces of
+ *     tests/test_ssi_graph.c): P the biquadratic graph of S f over the unit square, Q the graph
+ *     of S (f + h / 2^j), parametrised differently, both with an interior knot per direction
+ *     and moved by one rigid motion, so that they meet exactly where the designed integer
+ *     polynomial h vanishes: crossing loops, an isolated contact beside two branches, boundary
+ *     curves, touching loops, mirrored loops apart and touching, a tangential loop, three
+ *     isolated contacts, a tangent line between boundary curves, a loop of radius 1e-3, three
+ *     loops across patches. Every control point is exact in binary (the tangencies survive
+ *     only if nothing is rounded);
  *   - the paper's Example 2 (appendix A): its rational bicubic P over [0, 1]^2 and Q over
  *     [-1, 1] x [0, 2], power coefficients turned into integer homogeneous control points;
  *   - the torus/ellipsoid pairs of its Table 4, analytic for Colibri; for OCCT the torus is a
@@ -44,116 +44,6 @@
 #include "models/models.h"
 #include "ssi/ssi.h"
 
-#define MAX_DEG 6
-
-/* ---------------------------------------------------------------- exact polynomials -------- */
-
-/* Integer polynomial sum c[i][j] s^i t^j, degrees at most MAX_DEG. */
-typedef struct {
-    long long c[MAX_DEG + 1][MAX_DEG + 1];
-} poly;
-
-/* a s + b t + c */
-static poly lin(long long a, long long b, long long c)
-{
-    poly p;
-    memset(&p, 0, sizeof p);
-    p.c[1][0] = a;
-    p.c[0][1] = b;
-    p.c[0][0] = c;
-    return p;
-}
-
-static poly mul(poly a, poly b)
-{
-    poly p;
-    memset(&p, 0, sizeof p);
-    for (int i = 0; i <= MAX_DEG; i++)
-        for (int j = 0; j <= MAX_DEG; j++)
-            for (int k = 0; k <= MAX_DEG - i; k++)
-                for (int l = 0; l <= MAX_DEG - j; l++)
-                    p.c[i + k][j + l] += a.c[i][j] * b.c[k][l];
-    return p;
-}
-
-static poly add(poly a, poly b, long long k)
-{
-    for (int i = 0; i <= MAX_DEG; i++)
-        for (int j = 0; j <= MAX_DEG; j++)
-            a.c[i][j] += k * b.c[i][j];
-    return a;
-}
-
-/* (a s - b)^2 + (a t - c)^2 - r2: a circle of radius sqrt(r2) / a about (b, c) / a. */
-static poly circle(long long a, long long b, long long c, long long r2)
-{
-    poly x = lin(a, 0, -b), y = lin(0, a, -c);
-    return add(add(mul(x, x), mul(y, y), 1), lin(0, 0, 1), -r2);
-}
-
-static void degrees(int *ds, int *dt, const poly *p)
-{
-    *ds = *dt = 0;
-    for (int i = 0; i <= MAX_DEG; i++)
-        for (int j = 0; j <= MAX_DEG; j++)
-            if (p->c[i][j]) {
-                *ds = i > *ds ? i : *ds;
-                *dt = j > *dt ? j : *dt;
-            }
-}
-
-static long long fact(int n)
-{
-    return n <= 1 ? 1 : n * fact(n - 1);
-}
-
-static long long binom(int n, int k)
-{
-    return fact(n) / (fact(k) * fact(n - k));
-}
-
-/* Bernstein coefficients of p(s0 + ds sigma, t0 + dt tau) of degree (m, n) on [0, 1]^2, times
- * D = m! n!: integers, out[k * (n + 1) + l]. Returns 0 when a value leaves the range where
- * doubles are exact. */
-static int bernstein(long long *out, const poly *p, int m, int n, long long s0, long long ds,
-                     long long t0, long long dt)
-{
-    /* Power coefficients in (sigma, tau) after the affine substitution. */
-    poly q;
-    memset(&q, 0, sizeof q);
-    for (int i = 0; i <= m; i++)
-        for (int j = 0; j <= n; j++) {
-            if (!p->c[i][j])
-                continue;
-            for (int a = 0; a <= i; a++)
-                for (int b = 0; b <= j; b++) {
-                    long long v = p->c[i][j] * binom(i, a) * binom(j, b);
-                    for (int e = 0; e < i - a; e++)
-                        v *= s0;
-                    for (int e = 0; e < a; e++)
-                        v *= ds;
-                    for (int e = 0; e < j - b; e++)
-                        v *= t0;
-                    for (int e = 0; e < b; e++)
-                        v *= dt;
-                    q.c[a][b] += v;
-                }
-        }
-    /* b_kl = sum C(k,i) C(l,j) q_ij / (C(m,i) C(n,j)), and m! / C(m,i) = i! (m - i)!. */
-    for (int k = 0; k <= m; k++)
-        for (int l = 0; l <= n; l++) {
-            long long v = 0;
-            for (int i = 0; i <= k; i++)
-                for (int j = 0; j <= l; j++)
-                    v += binom(k, i) * binom(l, j) * fact(i) * fact(m - i) * fact(j) *
-                         fact(n - j) * q.c[i][j];
-            if (llabs(v) >= (1LL << 53))
-                return 0;
-            out[k * (n + 1) + l] = v;
-        }
-    return 1;
-}
-
 /* ---------------------------------------------------------------- cases -------------------- */
 
 typedef struct {
@@ -168,66 +58,33 @@ typedef struct {
     int max_phi_degree; /* the SSI's limit for this case; 0: the default */
 } ssi_case;
 
-static void clamped_knots(double *k, int deg, double a, double b)
+/* Graph pair for h (see the header): returns 0 when the generator refuses h. */
+static int graph_pair(ssi_case *c, const cb_model_poly *h)
 {
-    for (int i = 0; i <= deg; i++) {
-        k[i] = a;
-        k[deg + 1 + i] = b;
-    }
-}
-
-/* Graph pair for h (see the header): returns 0 when the numbers are not exact. */
-static int graph_pair(ssi_case *c, const poly *h)
-{
-    int m, n;
-    degrees(&m, &n, h);
-    m = m < 1 ? 1 : m;
-    n = n < 1 ? 1 : n;
-    long long N[(MAX_DEG + 1) * (MAX_DEG + 1)];
-    if (!bernstein(N, h, m, n, 0, 1, 0, 1))
-        return 0;
-    /* D = m! n! = S 2^e with S odd; scale 2^k so that |h| / 2^k <= 1/4 on the square. */
-    long long D = fact(m) * fact(n), S = D;
-    int e = 0;
-    while (!(S & 1)) {
-        S >>= 1;
-        e++;
-    }
-    long long big = 1;
-    for (int k = 0; k < (m + 1) * (n + 1); k++)
-        big = llabs(N[k]) > big ? llabs(N[k]) : big;
-    double hscale = 0.25;
-    while ((double)big / D * hscale > 0.25)
-        hscale *= 0.5;
-    const double cs = 1; /* the saddle's c */
-    double kn[2 * (MAX_DEG + 1)], km[2 * (MAX_DEG + 1)];
-    double *pq = malloc((size_t)(m + 1) * (n + 1) * 3 * sizeof(double)), pp[12];
-    for (int k = 0; k <= m; k++)
-        for (int l = 0; l <= n; l++) {
-            double *X = pq + 3 * (k * (n + 1) + l);
-            /* S k / m, S l / n and S c (k/m - 1/2)(l/n - 1/2) are dyadic: S holds the odd
-             * parts of m and n. */
-            X[0] = (double)S * k / m;
-            X[1] = (double)S * l / n;
-            X[2] = cs * (double)S * (2 * k - m) * (2 * l - n) / (4.0 * m * n) +
-                   ldexp((double)N[k * (n + 1) + l], -e) * hscale;
-        }
-    for (int k = 0; k < 4; k++) {
-        pp[3 * k] = (double)S * (k >> 1);
-        pp[3 * k + 1] = (double)S * (k & 1);
-        pp[3 * k + 2] = cs * (double)S * ((k >> 1) ? 0.25 : -0.25) * ((k & 1) ? 1 : -1);
-    }
+    cb_model_graph g;
     cb_error err;
-    clamped_knots(kn, m, 0, 1);
-    clamped_knots(km, n, 0, 1);
-    double k1[4] = {0, 0, 1, 1};
-    int ok = cb_nurbs_surface_make(c->na, 1, 1, k1, 4, k1, 4, pp, NULL, 2, 2, &err) == CB_OK &&
-             cb_nurbs_surface_make(c->nb, m, n, kn, 2 * m + 2, km, 2 * n + 2, pq, NULL, m + 1,
-                                   n + 1, &err) == CB_OK;
-    free(pq);
+    if (cb_model_graph_pair(c->na, c->nb, &g, h, &err) != CB_OK) {
+        fprintf(stderr, "%s: %s\n", c->name, err.msg);
+        return 0;
+    }
     cb_ssi_surface_set_nurbs(&c->A, c->na);
     cb_ssi_surface_set_nurbs(&c->B, c->nb);
-    return ok;
+    return 1;
+}
+
+static cb_model_poly mul(cb_model_poly a, cb_model_poly b)
+{
+    return cb_model_poly_mul(&a, &b);
+}
+
+static cb_model_poly lin(long long a, long long b, long long c)
+{
+    return cb_model_poly_linear(a, b, c);
+}
+
+static cb_model_poly circle(long long a, long long b, long long c, long long r2)
+{
+    return cb_model_poly_circle(a, b, c, r2);
 }
 
 /* The paper's Example 2 (appendix A; the P of its Example 1): models/paper.c. */
@@ -264,13 +121,14 @@ static int torus_ellipsoid(ssi_case *c, const double tc[3], const double tn[3], 
     return 1;
 }
 
-#define N_CASES 15
+#define N_GRAPH 12
+#define N_CASES (N_GRAPH + 6)
 
 /* Builds case k into c (NURBS parts initialised by the caller). */
 static int build_case(ssi_case *c, int k)
 {
     static const double X[3] = {1, 0, 0}, Y[3] = {0, 1, 0}, Z[3] = {0, 0, 1};
-    poly h = lin(0, 0, 0);
+    cb_model_poly h = lin(0, 0, 0);
     switch (k) {
     case 0:
         *c = (ssi_case){.name = "one loop", .cls = "control", .components = 1, .truth = "1 loop"};
@@ -284,7 +142,7 @@ static int build_case(ssi_case *c, int k)
     case 2:
         *c = (ssi_case){.name = "isolated contact", .cls = "Fig.1b", .components = 2, .points = 1,
                         .truth = "2 branches + 1 point"};
-        h = mul(circle(4, 2, 2, 0), add(mul(lin(4, 0, -2), lin(4, 0, -2)), lin(0, 0, 1), -1));
+        h = mul(circle(4, 2, 2, 0), mul(lin(4, 0, -1), lin(4, 0, -3)));
         break;
     case 3:
         *c = (ssi_case){.name = "boundary curves", .cls = "Fig.1c", .components = 1,
@@ -300,26 +158,39 @@ static int build_case(ssi_case *c, int k)
     case 5:
         *c = (ssi_case){.name = "loops touching", .cls = "Fig.1e", .components = 1,
                         .truth = "2 loops, 1 contact"};
-        h = mul(circle(10, 3, 5, 4), circle(10, 7, 5, 4));
+        h = mul(circle(10, 3, 5, 4), circle(20, 13, 10, 9));
         break;
     case 6:
+        *c = (ssi_case){.name = "mirrored, touching", .cls = "Fig.1e", .components = 1,
+                        .truth = "2 loops, 1 contact"};
+        h = mul(circle(10, 3, 5, 4), circle(10, 7, 5, 4));
+        break;
+    case 7:
+        *c = (ssi_case){.name = "mirrored loops", .cls = "symmetry", .components = 2,
+                        .truth = "2 loops"};
+        h = mul(circle(8, 2, 4, 1), circle(8, 6, 4, 1));
+        break;
+    case 8:
         *c = (ssi_case){.name = "tangential loop", .cls = "Fig.1f", .components = 1,
                         .truth = "1 tangent loop"};
         h = mul(circle(4, 2, 2, 1), circle(4, 2, 2, 1));
         break;
-    case 7:
+    case 9:
         *c = (ssi_case){.name = "three contacts", .cls = "Fig.1g", .points = 3,
                         .truth = "3 points"};
-        h = mul(mul(circle(4, 1, 1, 0),
-                    add(mul(lin(2, 0, -1), lin(2, 0, -1)), mul(lin(0, 4, -3), lin(0, 4, -3)), 1)),
-                add(mul(lin(4, 0, -3), lin(4, 0, -3)), mul(lin(0, 2, -1), lin(0, 2, -1)), 1));
+        h = mul(circle(4, 1, 1, 0), mul(circle(4, 2, 3, 0), circle(4, 3, 2, 0)));
         break;
-    case 8:
+    case 10:
         *c = (ssi_case){.name = "small loop 1e-3", .cls = "small loop", .components = 1,
                         .truth = "1 loop, r 1e-3"};
         h = circle(1000, 500, 500, 1);
         break;
-    case 9:
+    case 11:
+        *c = (ssi_case){.name = "three loops", .cls = "patches", .components = 3,
+                        .truth = "3 loops"};
+        h = mul(circle(32, 16, 16, 16), mul(circle(32, 6, 22, 16), circle(32, 24, 11, 9)));
+        break;
+    case N_GRAPH:
         /* Fig. 14 is phi = 0 in Q's box: two arcs and a loop crossing them in two nodes. What
          * remains inside P's box has no count of its own; test_ssi_spline checks it against
          * sampled points of both surfaces. phi has bidegree (27, 24). */
@@ -333,9 +204,9 @@ static int build_case(ssi_case *c, int k)
     cb_nurbs_surface_init(c->na);
     cb_nurbs_surface_init(c->nb);
     cb_nurbs_surface_init(c->occt_b);
-    if (k < 9)
+    if (k < N_GRAPH)
         return graph_pair(c, &h);
-    if (k == 9)
+    if (k == N_GRAPH)
         return example2(c);
     /* Table 4, examples 1 to 5. Expected topology from the local shape at the points where the
      * ellipsoid's axes meet the torus' equators (ex. 1: its tips touch the outer equator from
@@ -356,7 +227,7 @@ static int build_case(ssi_case *c, int k)
     static const char *const names[5] = {"torus-ellipsoid 1", "torus-ellipsoid 2",
                                          "torus-ellipsoid 3", "torus-ellipsoid 4",
                                          "torus-ellipsoid 5"};
-    int e = k - 10;
+    int e = k - N_GRAPH - 1;
     c->name = names[e];
     c->cls = "Table 4";
     c->components = t4[e].components;
