@@ -9,7 +9,8 @@
  * where they share an end point, bit for bit), closed curves and isolated points; every
  * tangential flag against the truth (a curve is tangential exactly when it lies on a squared
  * factor of h); every output point within tol of both surfaces at its own parameters and on the
- * designed curve; every point of the designed curve within 1e-4 of the output. */
+ * designed curve; every point of the designed curve within 1e-4 of the output; the same output
+ * bit for bit on 1 and 2 threads. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -146,6 +147,23 @@ static int components(const cb_ssi_result_t r)
     return count;
 }
 
+/* The same curves and points, in the same order, bit for bit. */
+static int same_output(const cb_ssi_result_t a, const cb_ssi_result_t b)
+{
+    if (a->n_curves != b->n_curves || a->n_points != b->n_points)
+        return 0;
+    for (slong k = 0; k < a->n_curves; k++) {
+        const cb_ssi_curve *x = a->curve + k, *y = b->curve + k;
+        if (x->n != y->n || x->closed != y->closed || x->tangential != y->tangential ||
+            memcmp(x->pt, y->pt, (size_t)x->n * sizeof *x->pt))
+            return 0;
+    }
+    for (slong k = 0; k < a->n_points; k++)
+        if (memcmp(&a->point[k].p, &b->point[k].p, sizeof a->point[k].p))
+            return 0;
+    return 1;
+}
+
 /* ---------------------------------------------------------------- one case ----------------- */
 
 static void run_case(const graph_case *c)
@@ -166,11 +184,18 @@ static void run_case(const graph_case *c)
     cb_ssi_opts_default(&o);
     /* Chords well inside the 1e-4 coverage asked of the polylines (the model is about 1). */
     o.chord = 1e-5;
-    cb_ssi_result_t r;
+    cb_ssi_result_t r, r1;
     cb_ssi_result_init(r);
+    cb_ssi_result_init(r1);
+    o.threads = 2;
     st = cb_ssi_surfaces(r, &A, &B, -1, -1, &o, &err);
     CHECK(st == CB_OK && r->n_failed == 0, "%s: every patch pair certified: %s", c->name,
           err.msg);
+    o.threads = 1;
+    st = cb_ssi_surfaces(r1, &A, &B, -1, -1, &o, &err);
+    CHECK(st == CB_OK && same_output(r, r1), "%s: 1 and 2 threads give different output",
+          c->name);
+    cb_ssi_result_clear(r1);
 
     int closed = 0;
     for (slong k = 0; k < r->n_curves; k++)
