@@ -113,6 +113,10 @@ typedef struct {
                                  pair: it then stops with CB_ERR_CANCELLED */
     int keep_marks; /* 0 (default); 1: r->mark gets the vertices of the certified topology
                        graphs (cb_ssi_mark), for pictures; costs a little memory per pair */
+    int topo_transpose; /* 1 (default): a patch pair whose curve topology is refused as not in
+                           generic position (several multiple roots over one irrational
+                           critical value of Q's first parameter) is tried again sweeping
+                           along Q's second parameter; 0: not */
 } cb_ssi_opts;
 
 void cb_ssi_opts_default(cb_ssi_opts *o);

@@ -40,6 +40,7 @@ void cb_ssi_opts_default(cb_ssi_opts *o)
     o->recognise = 1;
     o->cancel = NULL;
     o->keep_marks = 0;
+    o->topo_transpose = 1;
 }
 
 static double now_s(void)
@@ -535,9 +536,10 @@ static void spline_run(pair_job *J, const pair_ctx *c)
     _cb_ssi_bez_clear(&Q);
 }
 
-/* The vertices of T (coordinates refined) as marks in Q's surface parameters. */
+/* The vertices of T (coordinates refined) as marks in Q's surface parameters; swap: T's s is
+ * Q's second parameter (the transposed topology). */
 static cb_status job_marks(pair_job *J, const cb_ctopo_t T, const _cb_ssi_pair_geom *g,
-                           int patch)
+                           int patch, int swap)
 {
     if (T->n_vertices == 0)
         return CB_OK;
@@ -548,15 +550,99 @@ static cb_status job_marks(pair_job *J, const cb_ctopo_t T, const _cb_ssi_pair_g
     for (slong k = 0; k < T->n_vertices; k++) {
         const cb_ctopo_vertex_struct *v = T->vertex + k;
         cb_ssi_mark *m = J->marks + k;
+        double a = swap ? v->t : v->s, b = swap ? v->s : v->t;
         memset(m, 0, sizeof *m);
         m->patch = patch;
         m->kind = v->kind;
         m->singular = v->singular;
         m->tangential = v->tangential;
-        cb_dixon_patch_to_domain(m->uv, m->uv + 1, g->q, v->s, v->t);
-        _cb_ssi_lift(m->xyz, g, v->s, v->t);
+        cb_dixon_patch_to_domain(m->uv, m->uv + 1, g->q, a, b);
+        _cb_ssi_lift(m->xyz, g, a, b);
     }
     return CB_OK;
+}
+
+/* ---------------------------------------------------------------- topology and tracing ----- */
+
+/* The lift for a topology computed on phi with its variables swapped. */
+static void swapped_lift(double X[3], const void *geom, double sigma, double tau)
+{
+    _cb_ssi_lift(X, geom, tau, sigma);
+}
+
+/* phi(t, s): the variables swapped. */
+static void transpose(fmpz_mpoly_t out, const fmpz_mpoly_t p, const fmpz_mpoly_ctx_t ctx)
+{
+    fmpz_t co;
+    fmpz_init(co);
+    fmpz_mpoly_zero(out, ctx);
+    for (slong k = 0; k < fmpz_mpoly_length(p, ctx); k++) {
+        ulong e[2], f[2];
+        fmpz_mpoly_get_term_exp_ui(e, p, k, ctx);
+        fmpz_mpoly_get_term_coeff_fmpz(co, p, k, ctx);
+        f[0] = e[1];
+        f[1] = e[0];
+        fmpz_mpoly_set_coeff_fmpz_ui(out, co, f, ctx);
+    }
+    fmpz_clear(co);
+}
+
+/* Topology, tracing and clipping of phi = 0 (mp) in Q's patch box [0, 1]^2, pieces (and marks)
+ * into J; swap: mp is phi with its variables swapped, so the sweep runs along Q's second
+ * parameter. Errors: those of cb_ctopo_compute (err set, "topology: ..."), CB_ERR_NOMEM. */
+static cb_status topo_trace(pair_job *J, const pair_ctx *c, const _cb_ssi_pair_geom *g,
+                            const fmpz_mpoly_t mp, const fmpz_mpoly_ctx_t ctx, int swap,
+                            cb_error *err)
+{
+    double ta = now_s();
+    fmpq_t zero, one;
+    fmpq_init(zero);
+    fmpq_init(one);
+    fmpq_one(one);
+    cb_ctopo_t T;
+    cb_ctopo_init(T);
+    cb_status st = cb_ctopo_compute(T, mp, ctx, zero, one, zero, one, &c->opts->topo, err);
+    double tb = now_s();
+    J->t_topo += tb - ta;
+    if (st != CB_OK) {
+        if (st != CB_ERR_NOMEM)
+            cb_error_prefix(err, "topology: ");
+    } else {
+        _cb_ssi_sqf h;
+        _cb_ssi_sqf_init(&h);
+        _cb_ssi_trace_set ts;
+        _cb_ssi_trace_set_init(&ts);
+        st = _cb_ssi_sqf_set(&h, mp, ctx);
+        if (st == CB_OK) {
+            _cb_ssi_vertex_refine(T, &h);
+            if (c->opts->keep_marks)
+                st = job_marks(J, T, g, J->iq, swap);
+        }
+        if (st == CB_OK)
+            st = _cb_ssi_trace(&ts, T, &h, swap ? swapped_lift : _cb_ssi_lift, g, g->chord,
+                               g->max_seg);
+        for (slong k = 0; swap && k < ts.n && st == CB_OK; k++) {
+            _cb_ssi_trace_curve *tc = ts.c + k;
+            for (slong i = 0; i < tc->n; i++) {
+                double a = tc->st[2 * i];
+                unsigned f = tc->fixed[i];
+                tc->st[2 * i] = tc->st[2 * i + 1];
+                tc->st[2 * i + 1] = a;
+                tc->fixed[i] = (f & ~12u) | ((f & 4u) << 1) | ((f & 8u) >> 1);
+            }
+        }
+        if (st == CB_OK)
+            st = _cb_ssi_clip(&J->pieces, &ts, g);
+        if (st != CB_OK)
+            cb_error_set(err, st, "tracing: out of memory");
+        _cb_ssi_trace_set_clear(&ts);
+        _cb_ssi_sqf_clear(&h);
+        J->t_trace += now_s() - tb;
+    }
+    cb_ctopo_clear(T);
+    fmpq_clear(zero);
+    fmpq_clear(one);
+    return st;
 }
 
 static void pair_run(pair_job *J, const pair_ctx *c)
@@ -648,45 +734,29 @@ static void pair_run(pair_job *J, const pair_ctx *c)
             fmpz_mpoly_set_coeff_fmpz_ui(mp, co, e, ctx);
         }
     cb_phi_clear(phi);
-    fmpq_t zero, one;
-    fmpq_init(zero);
-    fmpq_init(one);
-    fmpq_one(one);
-    cb_ctopo_t T;
-    cb_ctopo_init(T);
-    J->st = cb_ctopo_compute(T, mp, ctx, zero, one, zero, one, &c->opts->topo, &err);
-    double t1 = now_s();
-    J->t_topo = t1 - t0;
-    if (J->st != CB_OK) {
-        snprintf(J->msg, sizeof J->msg, "topology: %.150s", err.msg);
-    } else {
-        _cb_ssi_sqf h;
-        _cb_ssi_sqf_init(&h);
-        _cb_ssi_trace_set ts;
-        _cb_ssi_trace_set_init(&ts);
-        J->st = _cb_ssi_sqf_set(&h, mp, ctx);
-        if (J->st == CB_OK) {
-            _cb_ssi_vertex_refine(T, &h);
-            if (c->opts->keep_marks)
-                J->st = job_marks(J, T, &g, J->iq);
+    J->t_topo = now_s() - t0;
+    J->st = topo_trace(J, c, &g, mp, ctx, 0, &err);
+    if (J->st == CB_ERR_UNSUPPORTED && c->opts->topo_transpose) {
+        /* Refused as not in generic position (several multiple roots over one irrational
+         * critical value): a mirror-symmetric design puts two folds on one line of one
+         * parameter, rarely on one line of the other. The first refusal is the message. */
+        cb_error e2;
+        fmpz_mpoly_t tp;
+        fmpz_mpoly_init(tp, ctx);
+        transpose(tp, mp, ctx);
+        cb_status s2 = topo_trace(J, c, &g, tp, ctx, 1, &e2);
+        fmpz_mpoly_clear(tp, ctx);
+        if (s2 == CB_OK || s2 == CB_ERR_NOMEM) {
+            J->st = s2;
+            err = e2;
         }
-        if (J->st == CB_OK)
-            J->st = _cb_ssi_trace(&ts, T, &h, _cb_ssi_lift, &g, g.chord, g.max_seg);
-        if (J->st == CB_OK)
-            J->st = _cb_ssi_clip(&J->pieces, &ts, &g);
-        if (J->st != CB_OK) {
-            /* Only memory fails here: the pair says so and outputs nothing rather than part
-             * of its curves. */
-            _cb_ssi_piece_set_clear(&J->pieces);
-            snprintf(J->msg, sizeof J->msg, "tracing: out of memory");
-        }
-        _cb_ssi_trace_set_clear(&ts);
-        _cb_ssi_sqf_clear(&h);
-        J->t_trace = now_s() - t1;
     }
-    cb_ctopo_clear(T);
-    fmpq_clear(zero);
-    fmpq_clear(one);
+    if (J->st != CB_OK) {
+        /* The pair says why and outputs nothing rather than part of its curves. */
+        _cb_ssi_piece_set_clear(&J->pieces);
+        _cb_ssi_piece_set_init(&J->pieces);
+        snprintf(J->msg, sizeof J->msg, "%.190s", err.msg);
+    }
     fmpz_mpoly_clear(mp, ctx);
     fmpz_mpoly_ctx_clear(ctx);
 }
