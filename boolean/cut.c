@@ -124,16 +124,21 @@ static cb_status emit(cb_bool_cuts *out, const cut_run *r, const cb_ssi_curve *c
     return CB_OK;
 }
 
-/* The window of periodic direction i of a face: [lo, lo + period), centred on the loops' box,
- * so that every point of the trimmed face has one lift in it. */
+/* The window of periodic direction i of a face: [lo, lo + period), centred on the extent of
+ * the loops' polygon vertices, so that every point of the trimmed face has one lift in it. The
+ * vertices, not the face's uv_box: that box is grown by each segment's deviation from its
+ * pcurve, which would move the window's ends off a seam by as much. */
 static double window_lo(const cb_face *f, int i)
 {
-    double P = f->inv.period[i];
-    double c = 0.5 * (f->uv_box[2 * i] + f->uv_box[2 * i + 1]);
-    double w = f->uv_box[2 * i + 1] - f->uv_box[2 * i];
-    /* A face spanning the whole period has its seam at the box's ends: keep them as the
-     * window's. */
-    return w >= P * (1 - 1e-9) ? f->uv_box[2 * i] : c - 0.5 * P;
+    double P = f->inv.period[i], a = HUGE_VAL, b = -HUGE_VAL;
+    for (int k = 0; k < f->n_segs; k++) {
+        const cb_face_seg *sg = f->segs + k;
+        a = fmin(a, fmin(sg->p[i], sg->q[i]));
+        b = fmax(b, fmax(sg->p[i], sg->q[i]));
+    }
+    /* A face spanning the whole period has its seam at the vertices' ends: keep them as the
+     * window's, so that a curve is split where it crosses the seam edge. */
+    return b - a >= P * (1 - 1e-9) ? a : 0.5 * (a + b) - 0.5 * P;
 }
 
 static double wrap(double x, double lo, double P)
