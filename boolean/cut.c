@@ -505,7 +505,10 @@ double cb_bool_cut_project(double *pos, const cb_bool_cut *c, const double p[3],
             L2 += ab[k] * ab[k];
             dot += ab[k] * ap[k];
         }
-        double x = fmin(hi, fmax(lo, i + (L2 > 0 ? dot / L2 : 0))), d2 = 0;
+        /* within the segment's own stretch of [lo, hi]: a point beyond its ends is a
+         * neighbour's, and the line extended past them may pass nearer than the polyline */
+        double x = fmin(fmin(hi, i + 1), fmax(fmax(lo, i), i + (L2 > 0 ? dot / L2 : 0)));
+        double d2 = 0;
         for (int k = 0; k < 3; k++)
             d2 += (ap[k] - (x - i) * ab[k]) * (ap[k] - (x - i) * ab[k]);
         if (d2 < best) {
