@@ -116,8 +116,8 @@ cb_status cb_bool_point_in_solid(cb_bool_where *where, const cb_topo_body *b, co
 #define CB_BOOL_WELD 100
 /* Points of a face's split closer than this many tolerances (in (u, v) scaled by the surface's
  * largest speeds) are one vertex of its arrangement; the loop polygon is refined to an eighth
- * of it. Cut ends lie on the exact loops (cb_bool_cuts_make), so it only has to absorb the
- * polygon's deviation and rounding. */
+ * of it where a cut comes within reach of it. Cut ends lie on the exact loops
+ * (cb_bool_cuts_make), so it only has to absorb the polygon's deviation and rounding. */
 #define CB_BOOL_SNAP 10
 
 /* An intersection curve restricted to both its faces: the part of an SSI curve (cb_ssi_bodies)

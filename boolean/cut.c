@@ -124,16 +124,39 @@ static cb_status emit(cb_bool_cuts *out, const cut_run *r, const cb_ssi_curve *c
     return CB_OK;
 }
 
-/* The window of periodic direction i of a face: [lo, lo + period), centred on the loops' box,
- * so that every point of the trimmed face has one lift in it. */
+/* The extent [*a, *b] of the loops' polygon vertices in direction i. */
+static void loop_extent(double *a, double *b, const cb_face *f, int i)
+{
+    *a = HUGE_VAL;
+    *b = -HUGE_VAL;
+    for (int k = 0; k < f->n_segs; k++) {
+        const cb_face_seg *sg = f->segs + k;
+        *a = fmin(*a, fmin(sg->p[i], sg->q[i]));
+        *b = fmax(*b, fmax(sg->p[i], sg->q[i]));
+    }
+}
+
+/* Loops whose extent in a periodic direction is within this fraction of the period of it (or
+ * more) span the whole period: rounding of the seam's parameter in files and pcurves. */
+#define SEAM_REL 1e-9
+
+/* Whether a face's loops span the whole period P from a to b: it has a seam there. */
+static int spans_period(double a, double b, double P)
+{
+    return b - a >= P * (1 - SEAM_REL);
+}
+
+/* The window of periodic direction i of a face: [lo, lo + period), centred on the extent of
+ * the loops' polygon vertices, so that every point of the trimmed face has one lift in it. The
+ * vertices, not the face's uv_box: that box is grown by each segment's deviation from its
+ * pcurve, which would move the window's ends off a seam by as much. */
 static double window_lo(const cb_face *f, int i)
 {
-    double P = f->inv.period[i];
-    double c = 0.5 * (f->uv_box[2 * i] + f->uv_box[2 * i + 1]);
-    double w = f->uv_box[2 * i + 1] - f->uv_box[2 * i];
-    /* A face spanning the whole period has its seam at the box's ends: keep them as the
-     * window's. */
-    return w >= P * (1 - 1e-9) ? f->uv_box[2 * i] : c - 0.5 * P;
+    double P = f->inv.period[i], a, b;
+    loop_extent(&a, &b, f, i);
+    /* A face spanning the whole period has its seam at the vertices' ends: keep them as the
+     * window's, so that a curve is split where it crosses the seam edge. */
+    return spans_period(a, b, P) ? a : 0.5 * (a + b) - 0.5 * P;
 }
 
 static double wrap(double x, double lo, double P)
@@ -167,6 +190,15 @@ void _cb_cut_ctx_init(cut_ctx *cx, const cb_face *fa, const cb_face *fb, double 
         for (int d = 0; d < 2; d++) {
             cx->P[s][d] = cx->f[s]->inv.period[d];
             cx->lo[s][d] = cx->P[s][d] > 0 ? window_lo(cx->f[s], d) : 0;
+            cx->band[s][d] = -1;
+            if (cx->P[s][d] > 0) {
+                double a, b;
+                loop_extent(&a, &b, cx->f[s], d);
+                cx->hi[s][d] = b;
+                double e = fabs(b - a - cx->P[s][d]);
+                if (e <= SEAM_REL * cx->P[s][d])
+                    cx->band[s][d] = 2 * e;
+            }
         }
 }
 
@@ -397,11 +429,28 @@ cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cu
     return st;
 }
 
+/* Whether p lies in both trimmed faces (ON counting as in). A face spanning a whole period
+ * has its seam's two copies at its loops' extremes lo and hi, in general a rounding error
+ * e (at most SEAM_REL of the period) short of a period apart or past it; the parity of the loops (cb_face_classify_uv, columns
+ * half-open) then counts a column on the seam out (a gap) or crosses its loops twice there (an
+ * overlap). A point whose lift lies within band = 2 e of either copy is on the seam and is
+ * classified at lo + band, beyond the overlap and short of the gap: a curve running along a
+ * seam is inside. */
 static int inside_both(const cut_ctx *cx, const cut_pt *p, double cls_tol)
 {
-    for (int s = 0; s < 2; s++)
-        if (cb_face_classify_uv(cx->f[s], p->uv[s][0], p->uv[s][1], cls_tol) == CB_FACE_OUT)
+    for (int s = 0; s < 2; s++) {
+        double uv[2] = {p->uv[s][0], p->uv[s][1]};
+        for (int d = 0; d < 2; d++) {
+            double lo = cx->lo[s][d], P = cx->P[s][d], band = cx->band[s][d];
+            if (band < 0)
+                continue;
+            double w = wrap(uv[d], lo, P);
+            if (w - lo <= band || cx->hi[s][d] - w <= band)
+                uv[d] = lo + band;
+        }
+        if (cb_face_classify_uv(cx->f[s], uv[0], uv[1], cls_tol) == CB_FACE_OUT)
             return 0;
+    }
     return 1;
 }
 
@@ -500,7 +549,10 @@ double cb_bool_cut_project(double *pos, const cb_bool_cut *c, const double p[3],
             L2 += ab[k] * ab[k];
             dot += ab[k] * ap[k];
         }
-        double x = fmin(hi, fmax(lo, i + (L2 > 0 ? dot / L2 : 0))), d2 = 0;
+        /* within the segment's own stretch of [lo, hi]: a point beyond its ends is a
+         * neighbour's, and the line extended past them may pass nearer than the polyline */
+        double x = fmin(fmin(hi, i + 1), fmax(fmax(lo, i), i + (L2 > 0 ? dot / L2 : 0)));
+        double d2 = 0;
         for (int k = 0; k < 3; k++)
             d2 += (ap[k] - (x - i) * ab[k]) * (ap[k] - (x - i) * ab[k]);
         if (d2 < best) {

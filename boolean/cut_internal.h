@@ -24,6 +24,10 @@ int _cb_cut_run_push(cut_run *r, const cut_pt *p);
 typedef struct {
     const cb_face *f[2];
     double lo[2][2], P[2][2]; /* per side and direction; P 0 where not periodic */
+    double hi[2][2], band[2][2]; /* of a face spanning a whole period with a seam: the upper
+                                    copy of the seam (lo the lower) and twice the mismatch of
+                                    the two copies (see inside_both in cut.c); band -1
+                                    otherwise */
     double min_len;
 } cut_ctx;
 

@@ -66,9 +66,68 @@ static int push_src(op_face *of, int *cap, const op_src *s)
     return 0;
 }
 
+/* The cuts a face is split along, in its (u, v) window (side: the face's side of the cuts),
+ * with their boxes there. */
+typedef struct {
+    const cb_bool_cuts *cuts;
+    const int *k; /* cut indices */
+    int n;
+    const double (*box)[4]; /* per listed cut: u0, u1, v0, v1 */
+    int side;
+} face_cuts;
+
+/* Whether a point of one of the cuts lies within reach (in the scaled plane) of the chord of
+ * segment g. */
+static int cut_near(const cb_face_seg *g, const face_cuts *fc, const double scale[2],
+                    double reach)
+{
+    double lo[2], hi[2];
+    for (int d = 0; d < 2; d++) {
+        lo[d] = fmin(g->p[d], g->q[d]) - reach / scale[d];
+        hi[d] = fmax(g->p[d], g->q[d]) + reach / scale[d];
+    }
+    double ab[2] = {(g->q[0] - g->p[0]) * scale[0], (g->q[1] - g->p[1]) * scale[1]};
+    double L2 = ab[0] * ab[0] + ab[1] * ab[1];
+    for (int j = 0; j < fc->n; j++) {
+        const double *bx = fc->box[j];
+        if (bx[0] > hi[0] || bx[1] < lo[0] || bx[2] > hi[1] || bx[3] < lo[1])
+            continue;
+        const cb_bool_cut *c = fc->cuts->cut + fc->k[j];
+        const double *uv = c->uv[fc->side];
+        for (int i = 0; i < c->n; i++) {
+            const double *x = uv + 2 * i;
+            if (x[0] < lo[0] || x[0] > hi[0] || x[1] < lo[1] || x[1] > hi[1])
+                continue;
+            double ap[2] = {(x[0] - g->p[0]) * scale[0], (x[1] - g->p[1]) * scale[1]};
+            double t = L2 > 0 ? fmin(1, fmax(0, (ab[0] * ap[0] + ab[1] * ap[1]) / L2)) : 0;
+            if (hypot(ap[0] - t * ab[0], ap[1] - t * ab[1]) <= reach)
+                return 1;
+        }
+    }
+    return 0;
+}
+
+/* Into how many pieces segment g of the loop polygon is cut (see boundary_srcs). */
+static int seg_pieces(const cb_face_seg *g, const face_cuts *fc, const double scale[2],
+                      double dev_max, double snap)
+{
+    double dev = g->dev * fmax(scale[0], scale[1]); /* bounds it in the scaled plane */
+    if (g->coedge < 0 || dev <= dev_max || !cut_near(g, fc, scale, dev + snap))
+        return 1;
+    return (int)fmin(4096, ceil(sqrt(dev / dev_max)));
+}
+
 /* The face's loop polygon (cb_face segments) as sources: one polyline per stretch of a coedge,
- * refined on the pcurve until it lies within dev_max of it in (u, v), and one per join. */
-static cb_status boundary_srcs(op_face *of, int *cap, const cb_face *F, double dev_max,
+ * and one per join. Where a point of a cut may lie within snap of a segment's pcurve (within
+ * its deviation bound plus snap of its chord, in the arrangement's scaled plane: a cut ending
+ * on the loop, or running or touching along it), the segment is refined on the pcurve until
+ * it lies within dev_max of it there (its deviation, a (u, v) distance, bounded by its
+ * product with the larger scale), so that the arrangement joins the cut to the loop where
+ * the exact loop passes, and only there. Elsewhere no polyline comes near the segment and the
+ * polygon is left as it is: refining it would only bring the loop's own tangent corners
+ * (two edges meeting at a zero angle) within snap of each other over a longer stretch. */
+static cb_status boundary_srcs(op_face *of, int *cap, const cb_face *F, const face_cuts *fc,
+                               const double scale[2], double dev_max, double snap,
                                cb_error *err)
 {
     const cb_topo_body *b = F->b;
@@ -83,9 +142,7 @@ static cb_status boundary_srcs(op_face *of, int *cap, const cb_face *F, double d
                 end++;
         int n = 1;
         for (int j = k; j < end; j++)
-            n += sg->coedge >= 0 && F->segs[j].dev > dev_max
-                     ? (int)fmin(4096, ceil(sqrt(F->segs[j].dev / dev_max)))
-                     : 1;
+            n += seg_pieces(F->segs + j, fc, scale, dev_max, snap);
         op_src s = {sg->coedge >= 0 ? OP_BOUNDARY : OP_JOIN, sg->coedge, 0,
                     malloc((size_t)n * 2 * sizeof(double))};
         if (!s.uv)
@@ -95,9 +152,7 @@ static cb_status boundary_srcs(op_face *of, int *cap, const cb_face *F, double d
         s.n = 1;
         for (int j = k; j < end; j++) {
             const cb_face_seg *g = F->segs + j;
-            int m = g->coedge >= 0 && g->dev > dev_max
-                        ? (int)fmin(4096, ceil(sqrt(g->dev / dev_max)))
-                        : 1;
+            int m = seg_pieces(g, fc, scale, dev_max, snap);
             for (int i = 1; i < m; i++) {
                 double q[3];
                 cb_topo_pcurve_eval(q, b->pcurves + b->coedges[g->coedge].pcurve,
@@ -261,15 +316,39 @@ static cb_status split_face(op_face *of, const split_ctx *sc, int side, int face
     int cap = 0;
     double scale[2];
     uv_scale(scale, F);
-    cb_status st = boundary_srcs(of, &cap, F, 0.125 * sc->snap, err);
-    for (int k = 0; k < sc->cuts->n && !st; k++) {
+    /* The cuts it is split along (the loops go first, so that cuts ending on them are moved
+     * onto them: cb_arr_build). */
+    int *ks = malloc((size_t)(sc->cuts->n + 1) * sizeof *ks), nk = 0;
+    double(*kbox)[4] = malloc((size_t)(sc->cuts->n + 1) * sizeof *kbox);
+    if (!ks || !kbox) {
+        free(ks);
+        free(kbox);
+        return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+    }
+    for (int k = 0; k < sc->cuts->n; k++) {
         const cb_bool_cut *c = sc->cuts->cut + k;
         if (c->face[side] != face || redundant_cut(sc->cuts, k, side, F, sc->tol))
             continue;
-        op_src s = {OP_CUT, k, c->n, c->uv[side]};
+        double *bx = kbox[nk];
+        bx[0] = bx[2] = HUGE_VAL;
+        bx[1] = bx[3] = -HUGE_VAL;
+        for (int i = 0; i < c->n; i++)
+            for (int d = 0; d < 2; d++) {
+                bx[2 * d] = fmin(bx[2 * d], c->uv[side][2 * i + d]);
+                bx[2 * d + 1] = fmax(bx[2 * d + 1], c->uv[side][2 * i + d]);
+            }
+        ks[nk++] = k;
+    }
+    face_cuts fc = {sc->cuts, ks, nk, (const double(*)[4])kbox, side};
+    cb_status st = boundary_srcs(of, &cap, F, &fc, scale, 0.125 * sc->snap, sc->snap, err);
+    for (int j = 0; j < nk && !st; j++) {
+        const cb_bool_cut *c = sc->cuts->cut + ks[j];
+        op_src s = {OP_CUT, ks[j], c->n, c->uv[side]};
         if (push_src(of, &cap, &s))
             st = cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
     }
+    free(ks);
+    free(kbox);
     if (st)
         return st;
     cb_arr_polyline *in = malloc((size_t)of->n_srcs * sizeof *in);
