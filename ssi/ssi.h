@@ -42,8 +42,8 @@
  * surface as its exact rational B-spline against the other's implicit equation (the
  * analytic/NURBS pipeline, certified topology), parameters mapped back to the analytic surface.
  *
- * B-spline faces that are the exact rational forms of planes and cylinders (cb_analytic_to_nurbs
- * nets, recognised and confirmed by rebuilding the net; ssi_recog.c) take those closed forms when
+ * B-spline faces that are the exact rational forms of planes, cylinders and spheres
+ * (cb_analytic_to_nurbs nets, recognised and confirmed by rebuilding the net; ssi_recog.c) take those closed forms when
  * one decides the pair, parameters mapped back to the B-splines (opts.recognise): the rounded
  * conic weights otherwise leave nodes and tangencies (the Steinmetz bicylinder) uncertified.
  *
@@ -104,8 +104,8 @@ typedef struct {
     slong spline_max_subpairs; /* subdivision route: sub-patch pairs examined per Bezier
                                   patch pair before the rest is reported uncertified;
                                   default 20000 */
-    int recognise; /* 1 (default): B-spline faces that are the exact rational forms of planes
-                      and cylinders (cb_analytic_to_nurbs nets, control points within 1e-3 tol)
+    int recognise; /* 1 (default): B-spline faces that are the exact rational forms of planes,
+                      cylinders and spheres (cb_analytic_to_nurbs nets, control points within 1e-3 tol)
                       take the analytic closed forms when one decides the pair (ssi_recog.c);
                       0: always the B-spline routes */
     const cb_context *cancel; /* NULL (default), or a context whose cancellation
@@ -418,8 +418,8 @@ cb_status _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s);
 
 /* B-spline faces that are exact rational forms of analytic surfaces (ssi_recog.c).
  * _cb_ssi_recognise: 1 when s is, up to delta in its Euclidean control points and 1e-12
- * (relative) in knots and weights, the net cb_analytic_to_nurbs makes of a plane or a cylinder
- * over some range; then a and range are that surface and range (the B-spline's domain).
+ * (relative) in knots and weights, the net cb_analytic_to_nurbs makes of a plane, a cylinder or
+ * a sphere over some range; then a and range are that surface and range (the B-spline's domain).
  * _cb_ssi_recog_param: B-spline parameters of the analytic (u, v) on such an s.
  * _cb_ssi_recognised_pair: when every NURBS side of A, B is recognised (control points within
  * 1e-3 tol) and the analytic pair is decided by a closed form without failures, appends that

@@ -1,5 +1,6 @@
-/* ssi_recog.c — B-spline faces that are the exact rational forms of planes and cylinders,
- * routed to the closed forms of the analytic/analytic code (see _cb_ssi_recognised_pair). */
+/* ssi_recog.c — B-spline faces that are the exact rational forms of planes, cylinders and
+ * spheres, routed to the closed forms of the analytic/analytic code (see
+ * _cb_ssi_recognised_pair). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -183,20 +184,110 @@ static int recog_cylinder(cb_analytic_surface *a, double range[4],
     return confirm(s, a, range, delta);
 }
 
+/* The middle point (tau = 1/2) of the rational quadratic with control points p0, m, p2 and
+ * weights 1, w, 1. */
+static void arc_mid(double q[3], const double p0[3], const double m[3], const double p2[3],
+                    double w)
+{
+    for (int k = 0; k < 3; k++)
+        q[k] = (p0[k] + 2 * w * m[k] + p2[k]) / (2 + 2 * w);
+}
+
+/* A sphere: degree (2, 2), circular arcs in u (parallels, the angles as knots) and in v
+ * (meridians, the latitudes as knots). The first meridian arc gives the centre and radius,
+ * the parallel farthest from the axis the axis' direction (u turns positively about it), the
+ * first control point of that parallel the direction of angle u0. */
+static int recog_sphere(cb_analytic_surface *a, double range[4], const cb_nurbs_surface_struct *s,
+                        double delta)
+{
+    if (s->deg_u != 2 || s->deg_v != 2 || s->n_u < 3 || s->n_u % 2 == 0 || s->n_u > 9 ||
+        s->n_v < 3 || s->n_v % 2 == 0 || s->n_v > 9)
+        return 0;
+    double u0 = s->knots_u[0], u1 = s->knots_u[s->n_u + 2], v0 = s->knots_v[0],
+           v1 = s->knots_v[s->n_v + 2];
+    if (!(u1 > u0 && v1 > v0))
+        return 0;
+    double p0[3], m[3], p2[3], q[3], e1[3], e2[3], n[3], t[3], t1[3], o[3];
+    if (!ctrl(p0, s, 0, 0) || !ctrl(m, s, 0, 1) || !ctrl(p2, s, 0, 2))
+        return 0;
+    /* Weights of the first meridian: its control points' own (u's weight is 1 at i = 0). */
+    arc_mid(q, p0, m, p2, s->cw[4 * 1 + 3] / s->cw[3]);
+    sub3(e1, q, p0);
+    sub3(e2, p2, p0);
+    cross3(n, e1, e2);
+    double nn = dot3(n, n);
+    if (!(nn > 0))
+        return 0;
+    for (int k = 0; k < 3; k++)
+        t[k] = dot3(e1, e1) * e2[k] - dot3(e2, e2) * e1[k];
+    cross3(t1, t, n);
+    for (int k = 0; k < 3; k++)
+        o[k] = p0[k] + t1[k] / (2 * nn);
+    double r0[3];
+    sub3(r0, p0, o);
+    double rad = norm3(r0);
+    if (!(rad > 0))
+        return 0;
+    double z[3] = {0, 0, 0}, best = 0, x0[3] = {0, 0, 0};
+    for (int j = 0; j < s->n_v; j += 2) {
+        double c0[3], cm[3], c2[3], cq[3], f1[3], f2[3], cn[3];
+        if (!ctrl(c0, s, 0, j) || !ctrl(cm, s, 1, j) || !ctrl(c2, s, 2, j))
+            return 0;
+        arc_mid(cq, c0, cm, c2, s->cw[4 * ((long)1 * s->n_v + j) + 3] /
+                                    s->cw[4 * ((long)0 * s->n_v + j) + 3]);
+        sub3(f1, cq, c0);
+        sub3(f2, c2, c0);
+        cross3(cn, f1, f2);
+        double len = norm3(cn);
+        if (len > best) {
+            best = len;
+            for (int k = 0; k < 3; k++) {
+                z[k] = cn[k] / len;
+                x0[k] = c0[k] - o[k];
+            }
+        }
+    }
+    if (!(best > 0))
+        return 0;
+    /* x0 less its component along the axis: the direction of angle u0. */
+    double along = dot3(x0, z), y0[3], x[3];
+    for (int k = 0; k < 3; k++)
+        x0[k] -= along * z[k];
+    double lx = norm3(x0);
+    if (!(lx > 0))
+        return 0;
+    for (int k = 0; k < 3; k++)
+        x0[k] /= lx;
+    cross3(y0, z, x0);
+    for (int k = 0; k < 3; k++)
+        x[k] = cos(u0) * x0[k] - sin(u0) * y0[k];
+    cb_frame f;
+    cb_error err;
+    if (cb_frame_make(&f, o, z, x, &err) != CB_OK || cb_analytic_sphere(a, &f, rad, &err) != CB_OK)
+        return 0;
+    range[0] = u0;
+    range[1] = u1;
+    range[2] = v0;
+    range[3] = v1;
+    return confirm(s, a, range, delta);
+}
+
 int _cb_ssi_recognise(cb_analytic_surface *a, double range[4], const cb_nurbs_surface_struct *s,
                       double delta)
 {
-    return recog_plane(a, range, s, delta) || recog_cylinder(a, range, s, delta);
+    return recog_plane(a, range, s, delta) || recog_cylinder(a, range, s, delta) ||
+           recog_sphere(a, range, s, delta);
 }
 
-/* B-spline u of the analytic angle u on a recognised cylinder: on the arc segment [t0, t1] of
+/* B-spline parameter of the analytic angle u on a direction of arcs (knots k[0 .. n + 2], n
+ * control points; periodic: u may be given modulo the turn): on the arc segment [t0, t1] of
  * half angle h (weights 1, cos h, 1) the angle phi from the segment's middle and the local
  * parameter tau satisfy tan(phi / 2) = tan(h / 2) (2 tau - 1) (the rational quadratic circle is
  * a Moebius reparameterisation of tan(phi / 2), fixed by tau = 0, 1/2, 1). */
-static double arc_param(const cb_nurbs_surface_struct *s, double u)
+static double arc_param(const double *k, int n, int periodic, double u)
 {
-    double a0 = s->knots_u[0], a1 = s->knots_u[s->n_u + 2], per = 2 * CB_SSI_PI;
-    if (u < a0 || u > a1) {
+    double a0 = k[0], a1 = k[n + 2], per = 2 * CB_SSI_PI;
+    if (periodic && (u < a0 || u > a1)) {
         /* An angle given modulo the turn: the representative nearest the range. */
         double w = a0 + fmod(fmod(u - a0, per) + per, per);
         if (w > a1 && w - per >= a0 - (w - a1))
@@ -204,13 +295,13 @@ static double arc_param(const cb_nurbs_surface_struct *s, double u)
         u = w;
     }
     u = fmin(fmax(u, a0), a1);
-    int nseg = (s->n_u - 1) / 2;
-    int k = 0;
-    while (k < nseg - 1 && u > s->knots_u[2 * k + 3])
-        k++;
-    double t0 = s->knots_u[2 * k + 1], t1 = s->knots_u[2 * k + 3];
-    if (k == 0)
-        t0 = s->knots_u[0];
+    int nseg = (n - 1) / 2;
+    int j = 0;
+    while (j < nseg - 1 && u > k[2 * j + 3])
+        j++;
+    double t0 = k[2 * j + 1], t1 = k[2 * j + 3];
+    if (j == 0)
+        t0 = k[0];
     double h = 0.5 * (t1 - t0);
     if (!(h > 0))
         return u;
@@ -222,8 +313,9 @@ static double arc_param(const cb_nurbs_surface_struct *s, double u)
 void _cb_ssi_recog_param(double out[2], const cb_nurbs_surface_struct *s,
                          const cb_analytic_surface *a, const double uv[2])
 {
-    out[0] = a->kind == CB_ANALYTIC_CYLINDER ? arc_param(s, uv[0]) : uv[0];
-    out[1] = uv[1];
+    int arcs_u = a->kind == CB_ANALYTIC_CYLINDER || a->kind == CB_ANALYTIC_SPHERE;
+    out[0] = arcs_u ? arc_param(s->knots_u, s->n_u, 1, uv[0]) : uv[0];
+    out[1] = a->kind == CB_ANALYTIC_SPHERE ? arc_param(s->knots_v, s->n_v, 0, uv[1]) : uv[1];
 }
 
 static double nurbs_dist(const cb_nurbs_surface_struct *s, const double uv[2], const double X[3])

@@ -686,7 +686,8 @@ static void test_nurbs_plane_on_side(void)
 }
 
 /* Rational patches with rounded weights (cb_analytic_to_nurbs writes sqrt(2)/2): the
- * subdivision route, certified, the same curves as the analytic surfaces. */
+ * subdivision route, certified, the same curves as the analytic surfaces (recognition off:
+ * the spheres would take the closed form). */
 static void test_rational_subdivision(void)
 {
     cb_error err;
@@ -710,6 +711,7 @@ static void test_rational_subdivision(void)
         cb_ssi_surface_set_nurbs(&B, other[k]);
         cb_ssi_opts o;
         cb_ssi_opts_default(&o);
+        o.recognise = 0;
         cb_ssi_result_t r;
         cb_ssi_result_init(r);
         CHECK(cb_ssi_surfaces(r, &A, &B, -1, -1, &o, &err) == CB_OK, "%s", err.msg);
@@ -1022,25 +1024,33 @@ static void test_steinmetz(void)
 }
 
 /* The recognition behind the B-spline fast path (ssi/ssi_recog.c): exact rational forms of
- * cylinders over 1 to 4 arc segments and of planes are recognised, with the analytic (u, v)
- * mapped to B-spline parameters that give the same point; a net moved by 1e-6 is not. */
+ * cylinders over 1 to 4 arc segments, of planes, and of spheres over 1 to 4 arc segments in u
+ * and 1 or 2 in v are recognised, with the analytic (u, v) mapped to B-spline parameters that
+ * give the same point; a net moved by 1e-6 is not. */
 static void test_recognise(void)
 {
     cb_error err;
     double spans[4][2] = {{0.3, 1.2}, {-1, 1.5}, {0.5, 4.6}, {0, 2 * PI}};
     int bad = 0, miss = 0;
     double worst = 0;
-    for (int c = 0; c < 8; c++) {
+    /* Latitude ranges of the spheres (cases 8 to 11). */
+    double lat[4][2] = {{-PI / 2, PI / 2}, {-0.5, 1.2}, {0.1, PI / 2}, {-1.2, 0.3}};
+    for (int c = 0; c < 12; c++) {
         cb_frame f;
         double o[3] = {0.3 * c, -1, 2}, z[3] = {1, 0.2 * c - 0.7, 0.5}, ref[3] = {0, 1, 0.1 * c};
         CHECK(cb_frame_make(&f, o, z, ref, &err) == CB_OK, "%s", err.msg);
         cb_analytic_surface a;
-        int cyl = c < 6;
-        if (cyl)
+        if (c < 6)
             CHECK(cb_analytic_cylinder(&a, &f, 0.5 + 0.3 * c, &err) == CB_OK, "%s", err.msg);
-        else
+        else if (c < 8)
             CHECK(cb_analytic_plane(&a, &f, &err) == CB_OK, "%s", err.msg);
+        else
+            CHECK(cb_analytic_sphere(&a, &f, 0.25 * c, &err) == CB_OK, "%s", err.msg);
         double u0 = spans[c % 4][0], u1 = spans[c % 4][1], v0 = -1 + 0.5 * c, v1 = v0 + 3;
+        if (c >= 8) {
+            v0 = lat[c - 8][0];
+            v1 = lat[c - 8][1];
+        }
         cb_nurbs_surface_t n;
         cb_nurbs_surface_init(n);
         CHECK(cb_analytic_to_nurbs(n, &a, u0, u1, v0, v1, &err) == CB_OK, "%s", err.msg);
@@ -1052,8 +1062,8 @@ static void test_recognise(void)
             CHECK(g.kind == a.kind && fabs(range[0] - u0) < 1e-12 && fabs(range[1] - u1) < 1e-12,
                   "recognised %s over [%g, %g]", cb_analytic_kind_name(g.kind), range[0], range[1]);
             for (int i = 0; i <= 20; i++)
-                for (int j = 0; j <= 2; j++) {
-                    double uv[2] = {u0 + (u1 - u0) * i / 20, v0 + (v1 - v0) * j / 2}, bu[2], p[3],
+                for (int j = 0; j <= 6; j++) {
+                    double uv[2] = {u0 + (u1 - u0) * i / 20, v0 + (v1 - v0) * j / 6}, bu[2], p[3],
                            q[3];
                     _cb_ssi_recog_param(bu, n, &g, uv);
                     cb_analytic_eval(p, &a, uv[0], uv[1]);
@@ -1070,7 +1080,7 @@ static void test_recognise(void)
     }
     CHECK(miss == 0 && bad == 0,
           "recognition: %d exact forms missed, %d mapped points off (worst %g)", miss, bad, worst);
-    printf("recognition: 8 exact forms recognised, mapped parameters within %.2g\n", worst);
+    printf("recognition: 12 exact forms recognised, mapped parameters within %.2g\n", worst);
 }
 
 int main(int argc, char **argv)
