@@ -29,8 +29,12 @@
  * (a branch one side lacks shows there; Colibri's chords may stand 1e-3 of the size off the
  * curve, so d(O,C) up to that is agreement).
  *
+ * Memory: the peak resident memory of a process that runs the case once (Colibri: this
+ * program as `bench_ssi_cases --peak K`, 2 threads; OCCT: the comparator's process, which
+ * times RUNS runs), each started by posix_spawn (bench_spawn.h).
+ *
  * Usage: bench_ssi_cases [RUNS [OCCT_SSI [JSON_OUT]]]   (RUNS default 3; "-": no OCCT) */
-#define _POSIX_C_SOURCE 200809L
+#define _DEFAULT_SOURCE /* wait4 (bench_spawn.h), fmemopen */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -39,6 +43,7 @@
 #include <unistd.h>
 
 #include "brep/analytic.h"
+#include "bench/bench_spawn.h"
 #include "bench/bench_stats.h"
 #include "io/json.h"
 #include "models/models.h"
@@ -389,6 +394,8 @@ typedef struct {
     int curves, points, components, isolated;
     int loose_components, loose_isolated; /* joined within 1e-3 of the model size */
     double t[2][3]; /* median, min, max; Colibri on 1 and 2 threads, OCCT in t[0] */
+    double peak_mib; /* peak resident memory of a process running the case once (2 threads
+                        for Colibri, parallel for OCCT); < 0 unknown */
     char msg[120];
     curve_set set;
 } side;
@@ -480,11 +487,26 @@ static int write_pair(const char *path, const ssi_case *c)
 static void run_occt(side *o, const char *occt, const char *path, int runs, double tol)
 {
     memset(o, 0, sizeof *o);
-    char cmd[2048];
-    snprintf(cmd, sizeof cmd, "'%s' %d %.17g '%s'", occt, runs, tol, path);
-    FILE *p = popen(cmd, "r");
-    if (!p)
+    o->peak_mib = -1;
+    char sruns[16], stol[32];
+    snprintf(sruns, sizeof sruns, "%d", runs);
+    snprintf(stol, sizeof stol, "%.17g", tol);
+    char *const argv[] = {(char *)occt, sruns, stol, (char *)path, NULL};
+    /* The comparator's whole output (its polylines), then parsed as a stream. */
+    size_t cap = (size_t)64 << 20, got = 0;
+    char *buf = malloc(cap);
+    long kib;
+    if (!buf)
         return;
+    int rc = spawn_read(buf, cap - 1, &got, argv, &kib);
+    buf[got] = 0;
+    FILE *p = rc == 0 ? fmemopen(buf, got + 1, "r") : NULL;
+    if (!p) {
+        snprintf(o->msg, sizeof o->msg, "the comparator failed (exit %d)", rc);
+        free(buf);
+        return;
+    }
+    o->peak_mib = kib / 1024.0;
     double ms[3];
     int done;
     if (fscanf(p, "%lf %lf %lf %d %d %d", ms, ms + 1, ms + 2, &done, &o->curves, &o->points) ==
@@ -521,7 +543,51 @@ static void run_occt(side *o, const char *occt, const char *path, int runs, doub
     } else {
         snprintf(o->msg, sizeof o->msg, "the comparator failed");
     }
-    pclose(p);
+    fclose(p);
+    free(buf);
+}
+
+/* Peak resident memory (MiB) of this program run as `--peak K`: a process that builds case K
+ * and intersects it once on 2 threads (K = -1: builds nothing, the process's own floor); < 0
+ * when it could not be run. *tol: the tolerance that run used (0 if unknown). */
+static double colibri_peak(double *tol, const char *self, int k)
+{
+    char sk[16], out[64];
+    snprintf(sk, sizeof sk, "%d", k);
+    char *const argv[] = {(char *)self, "--peak", sk, NULL};
+    size_t got;
+    long kib;
+    int rc = spawn_read(out, sizeof out - 1, &got, argv, &kib);
+    out[got] = 0;
+    *tol = 0;
+    if (rc == 0 && sscanf(out, "%lf", tol) != 1)
+        *tol = 0;
+    return rc == 0 ? kib / 1024.0 : -1;
+}
+
+/* The child of colibri_peak. */
+static int peak_child(int k)
+{
+    if (k < 0)
+        return 0;
+    ssi_case c;
+    int ok = build_case(&c, k);
+    if (ok) {
+        cb_ssi_opts opts;
+        cb_ssi_opts_default(&opts);
+        opts.threads = 2;
+        if (c.max_phi_degree > 0)
+            opts.max_phi_degree = c.max_phi_degree;
+        cb_ssi_result_t res;
+        cb_ssi_result_init(res);
+        cb_error err;
+        ok = cb_ssi_surfaces(res, &c.A, &c.B, -1, -1, &opts, &err) == CB_OK;
+        if (ok)
+            printf("%.17g\n", res->tol);
+        cb_ssi_result_clear(res);
+    }
+    case_clear(&c);
+    return ok ? 0 : 1;
 }
 
 static const char *verdict(const side *o, const ssi_case *c)
@@ -560,6 +626,8 @@ static void json_side(FILE *f, const char *key, const side *o, const ssi_case *c
         fprintf(f, ", \"time_s%s\": {\"median\": %.6f, \"min\": %.6f, \"max\": %.6f}",
                 occt ? "" : (th ? "_threads_2" : "_threads_1"), o->t[th][0], o->t[th][1],
                 o->t[th][2]);
+    fputs(", \"peak_mib\": ", f);
+    json_num(f, o->peak_mib);
     if (o->msg[0]) {
         fputs(", \"message\": ", f);
         cb_json_string(f, o->msg);
@@ -569,6 +637,8 @@ static void json_side(FILE *f, const char *key, const side *o, const ssi_case *c
 
 int main(int argc, char **argv)
 {
+    if (argc == 3 && !strcmp(argv[1], "--peak"))
+        return peak_child(atoi(argv[2]));
     int runs = argc > 1 ? atoi(argv[1]) : 3;
     if (runs < 1 || runs > MAX_RUNS)
         runs = 3;
@@ -586,18 +656,40 @@ int main(int argc, char **argv)
         return 1;
     }
     snprintf(path, sizeof path, "%s/pair.txt", dir);
+    double floor_tol, floor_mib = colibri_peak(&floor_tol, argv[0], -1);
     printf("SSI topology cases, %d run%s each: curve components + isolated points against the "
-           "true ones; time in seconds, median [min max]\n",
-           runs, runs == 1 ? "" : "s");
-    printf("%-19s %-10s %-22s | %-5s %-7s %-21s %-21s |", "case", "class", "true topology",
-           "C c+p", "verdict", "Colibri 1 thread", "2 threads");
+           "true ones; time in seconds, median [min max]; peak memory of one run in a process "
+           "of its own, MiB (a process that only starts: %.1f)\n",
+           runs, runs == 1 ? "" : "s", floor_mib);
+    printf("%-19s %-10s %-22s | %-5s %-7s %-21s %-21s %6s |", "case", "class", "true topology",
+           "C c+p", "verdict", "Colibri 1 thread", "2 threads", "MiB");
     if (occt)
-        printf(" %-5s %-7s %-21s %6s %8s %8s", "O c+p", "verdict", "OCCT", "C2/O", "d(C,O)",
-               "d(O,C)");
+        printf(" %-5s %-7s %-21s %6s %6s %8s %8s", "O c+p", "verdict", "OCCT", "MiB", "C2/O",
+               "d(C,O)", "d(O,C)");
     printf("\n");
     if (json)
         fprintf(json, "{\"runs\": %d, \"cases\": [", runs);
     int status = 0;
+    /* First every child process, while this one is still small: a spawned child's peak
+     * includes this process's resident memory at the spawn (it shares it until exec). */
+    side oc_all[N_CASES];
+    double peak[N_CASES];
+    int have[N_CASES];
+    for (int k = 0; k < N_CASES; k++) {
+        ssi_case c;
+        have[k] = 0;
+        peak[k] = -1;
+        if (build_case(&c, k)) {
+            /* The child reports the tolerance Colibri uses (1e-6 of the model size), which
+             * OCCT is given too. */
+            double tol = 0;
+            peak[k] = colibri_peak(&tol, argv[0], k);
+            have[k] = occt && tol > 0 && write_pair(path, &c);
+            if (have[k])
+                run_occt(oc_all + k, occt, path, runs, tol);
+        }
+        case_clear(&c);
+    }
     for (int k = 0; k < N_CASES; k++) {
         ssi_case c;
         if (!build_case(&c, k)) {
@@ -609,27 +701,28 @@ int main(int argc, char **argv)
         side co, oc;
         double tol = 0;
         run_colibri(&co, &c, runs, &tol);
+        co.peak_mib = peak[k];
         /* Model size: tol is 1e-6 of it. */
         double eps = 100 * tol, size = tol / 1e-6, dco = NAN, doc = NAN;
         topology(&co.components, &co.isolated, &co.set, eps);
         topology(&co.loose_components, &co.loose_isolated, &co.set, 1e-3 * size);
-        int have_occt = occt && write_pair(path, &c);
+        int have_occt = have[k];
         if (have_occt) {
-            run_occt(&oc, occt, path, runs, tol);
+            oc = oc_all[k];
             topology(&oc.components, &oc.isolated, &oc.set, eps);
             topology(&oc.loose_components, &oc.loose_isolated, &oc.set, 1e-3 * size);
         }
         char cc[16], oo[16];
         snprintf(cc, sizeof cc, "%d+%d", co.components, co.isolated);
-        printf("%-19s %-10s %-22s | %-5s %-7s %6.3f [%5.3f %5.3f] %6.3f [%5.3f %5.3f] |", c.name,
-               c.cls, c.truth, co.done ? cc : "-", verdict(&co, &c), co.t[0][0], co.t[0][1],
-               co.t[0][2], co.t[1][0], co.t[1][1], co.t[1][2]);
+        printf("%-19s %-10s %-22s | %-5s %-7s %6.3f [%5.3f %5.3f] %6.3f [%5.3f %5.3f] %6.1f |",
+               c.name, c.cls, c.truth, co.done ? cc : "-", verdict(&co, &c), co.t[0][0],
+               co.t[0][1], co.t[0][2], co.t[1][0], co.t[1][1], co.t[1][2], co.peak_mib);
         if (have_occt) {
             snprintf(oo, sizeof oo, "%d+%d", oc.components, oc.isolated);
             dco = directed(&co.set, &oc.set) / size;
             doc = directed(&oc.set, &co.set) / size;
-            printf(" %-5s %-7s %6.3f [%5.3f %5.3f] %6.2f %8.1e %8.1e", oc.done ? oo : "-",
-                   verdict(&oc, &c), oc.t[0][0], oc.t[0][1], oc.t[0][2],
+            printf(" %-5s %-7s %6.3f [%5.3f %5.3f] %6.1f %6.2f %8.1e %8.1e", oc.done ? oo : "-",
+                   verdict(&oc, &c), oc.t[0][0], oc.t[0][1], oc.t[0][2], oc.peak_mib,
                    oc.t[0][0] > 0 ? co.t[1][0] / oc.t[0][0] : NAN, dco, doc);
         }
         printf("\n");
