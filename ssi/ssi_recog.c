@@ -120,6 +120,39 @@ static int recog_plane(cb_analytic_surface *a, double range[4], const cb_nurbs_s
     return confirm(s, a, range, delta);
 }
 
+/* The middle point (tau = 1/2) of the rational quadratic with control points p0, m, p2 and
+ * weights 1, w, 1. */
+static void arc_mid(double q[3], const double p0[3], const double m[3], const double p2[3],
+                    double w)
+{
+    for (int k = 0; k < 3; k++)
+        q[k] = (p0[k] + 2 * w * m[k] + p2[k]) / (2 + 2 * w);
+}
+
+/* Centre c and radius of the circle through the ends p0, p2 and the middle (weight w of m)
+ * of a rational quadratic arc; 0 when the three points are collinear. */
+static int arc_circle(double c[3], double *rad, const double p0[3], const double m[3],
+                      const double p2[3], double w)
+{
+    double q[3], e1[3], e2[3], n[3], t[3], t1[3], r0[3];
+    arc_mid(q, p0, m, p2, w);
+    sub3(e1, q, p0);
+    sub3(e2, p2, p0);
+    cross3(n, e1, e2);
+    double nn = dot3(n, n);
+    if (!(nn > 0))
+        return 0;
+    /* c = p0 + ((|e1|^2 e2 - |e2|^2 e1) x n) / (2 |n|^2) */
+    for (int k = 0; k < 3; k++)
+        t[k] = dot3(e1, e1) * e2[k] - dot3(e2, e2) * e1[k];
+    cross3(t1, t, n);
+    for (int k = 0; k < 3; k++)
+        c[k] = p0[k] + t1[k] / (2 * nn);
+    sub3(r0, p0, c);
+    *rad = norm3(r0);
+    return *rad > 0;
+}
+
 /* A cylinder: degree (2, 1), a circular arc in u (knots of cb_analytic_to_nurbs: the angles)
  * times a unit-speed line in v along the axis. */
 static int recog_cylinder(cb_analytic_surface *a, double range[4],
@@ -141,29 +174,11 @@ static int recog_cylinder(cb_analytic_surface *a, double range[4],
         return 0;
     for (int k = 0; k < 3; k++)
         z[k] /= len;
-    /* Three points of the first arc: its ends and its middle (tau = 1/2 of the rational
-     * quadratic); the circumcentre in their plane. */
-    double wm = s->cw[4 * (1 * s->n_v) + 3], q[3];
-    for (int k = 0; k < 3; k++)
-        q[k] = (p0[k] + 2 * wm * m[k] + p2[k]) / (2 + 2 * wm);
-    double e1[3], e2[3], n[3], c[3], t1[3], t2[3], t[3];
-    sub3(e1, q, p0);
-    sub3(e2, p2, p0);
-    cross3(n, e1, e2);
-    double nn = dot3(n, n);
-    if (!(nn > 0))
+    /* The first arc's circle: its ends and its middle (tau = 1/2). */
+    double c[3], rad, r0[3], t2[3];
+    if (!arc_circle(c, &rad, p0, m, p2, s->cw[4 * (1 * s->n_v) + 3]))
         return 0;
-    /* c = p0 + ((|e1|^2 e2 - |e2|^2 e1) x n) / (2 |n|^2) */
-    for (int k = 0; k < 3; k++)
-        t[k] = dot3(e1, e1) * e2[k] - dot3(e2, e2) * e1[k];
-    cross3(t1, t, n);
-    for (int k = 0; k < 3; k++)
-        c[k] = p0[k] + t1[k] / (2 * nn);
-    double r0[3];
     sub3(r0, p0, c);
-    double rad = norm3(r0);
-    if (!(rad > 0))
-        return 0;
     for (int k = 0; k < 3; k++)
         r0[k] /= rad;
     /* x: the direction of angle 0, r0 turned back by a0 about z (y = z x x). */
@@ -184,15 +199,6 @@ static int recog_cylinder(cb_analytic_surface *a, double range[4],
     return confirm(s, a, range, delta);
 }
 
-/* The middle point (tau = 1/2) of the rational quadratic with control points p0, m, p2 and
- * weights 1, w, 1. */
-static void arc_mid(double q[3], const double p0[3], const double m[3], const double p2[3],
-                    double w)
-{
-    for (int k = 0; k < 3; k++)
-        q[k] = (p0[k] + 2 * w * m[k] + p2[k]) / (2 + 2 * w);
-}
-
 /* A sphere: degree (2, 2), circular arcs in u (parallels, the angles as knots) and in v
  * (meridians, the latitudes as knots). The first meridian arc gives the centre and radius,
  * the parallel farthest from the axis the axis' direction (u turns positively about it), the
@@ -207,26 +213,10 @@ static int recog_sphere(cb_analytic_surface *a, double range[4], const cb_nurbs_
            v1 = s->knots_v[s->n_v + 2];
     if (!(u1 > u0 && v1 > v0))
         return 0;
-    double p0[3], m[3], p2[3], q[3], e1[3], e2[3], n[3], t[3], t1[3], o[3];
-    if (!ctrl(p0, s, 0, 0) || !ctrl(m, s, 0, 1) || !ctrl(p2, s, 0, 2))
-        return 0;
-    /* Weights of the first meridian: its control points' own (u's weight is 1 at i = 0). */
-    arc_mid(q, p0, m, p2, s->cw[4 * 1 + 3] / s->cw[3]);
-    sub3(e1, q, p0);
-    sub3(e2, p2, p0);
-    cross3(n, e1, e2);
-    double nn = dot3(n, n);
-    if (!(nn > 0))
-        return 0;
-    for (int k = 0; k < 3; k++)
-        t[k] = dot3(e1, e1) * e2[k] - dot3(e2, e2) * e1[k];
-    cross3(t1, t, n);
-    for (int k = 0; k < 3; k++)
-        o[k] = p0[k] + t1[k] / (2 * nn);
-    double r0[3];
-    sub3(r0, p0, o);
-    double rad = norm3(r0);
-    if (!(rad > 0))
+    double p0[3], m[3], p2[3], o[3], rad;
+    /* The first meridian's circle (u's weight is 1 at i = 0): centre and radius. */
+    if (!ctrl(p0, s, 0, 0) || !ctrl(m, s, 0, 1) || !ctrl(p2, s, 0, 2) ||
+        !arc_circle(o, &rad, p0, m, p2, s->cw[4 * 1 + 3] / s->cw[3]))
         return 0;
     double z[3] = {0, 0, 0}, best = 0, x0[3] = {0, 0, 0};
     for (int j = 0; j < s->n_v; j += 2) {
