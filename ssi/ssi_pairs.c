@@ -741,6 +741,7 @@ static void pair_run(pair_job *J, const pair_ctx *c)
          * critical value): a mirror-symmetric design puts two folds on one line of one
          * parameter, rarely on one line of the other. The first refusal is the message. */
         cb_error e2;
+        cb_error_clear(&e2);
         fmpz_mpoly_t tp;
         fmpz_mpoly_init(tp, ctx);
         transpose(tp, mp, ctx);
