@@ -224,11 +224,37 @@ static int keep_piece(cb_bool_op op, int side, cb_bool_where w, int *flip)
     return 0;
 }
 
+/* Whether both ends of segment i of cut c lie within near of one imprint (a cut with no
+ * curve) on c's face of side `side`; *last: the imprint found for the previous segment, tried
+ * first. */
+static int seg_along_imprint(const cb_bool_cuts *cuts, const cb_bool_cut *c, int i, int side,
+                             double near, int *last)
+{
+    for (int m = -1; m < cuts->n; m++) {
+        int j = m < 0 ? *last : m;
+        if (j < 0 || (m >= 0 && j == *last))
+            continue;
+        const cb_bool_cut *d = cuts->cut + j;
+        if (d->curve >= 0 || d->face[side] != c->face[side])
+            continue;
+        double pos;
+        if (cb_bool_cut_project(&pos, d, c->xyz + 3 * i, 0, d->n - 1) <= near &&
+            cb_bool_cut_project(&pos, d, c->xyz + 3 * (i + 1), 0, d->n - 1) <= near) {
+            *last = j;
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* Whether cut k says nothing new to face F (on side `side`): it runs along the face's
  * boundary (every point ON within CB_BOOL_SNAP tolerances), or it is an intersection curve
- * running along a coincident face's imprint on F (every point within that of the imprint's
- * polyline), which is sampled finer. Added anyway, it would cross the line it runs along at
- * every other sample, splitting the face's edge where its neighbours do not. */
+ * running along coincident faces' imprints on F (both ends of every segment within that of
+ * one imprint's polyline: the imprint of one edge may come as several cuts, split where the
+ * edge leaves the coincident face or at its window's end, and the curve may run along
+ * several edges), which are sampled finer. Added anyway, it would cross the line it runs
+ * along at every other sample, splitting the face's edge where its neighbours do not (slivers
+ * as wide as the curve's chord error). */
 static int redundant_cut(const cb_bool_cuts *cuts, int k, int side, const cb_face *F, double tol)
 {
     const cb_bool_cut *c = cuts->cut + k;
@@ -240,18 +266,11 @@ static int redundant_cut(const cb_bool_cuts *cuts, int k, int side, const cb_fac
         return 1;
     if (c->curve < 0)
         return 0;
-    for (int j = 0; j < cuts->n; j++) {
-        const cb_bool_cut *d = cuts->cut + j;
-        if (d->curve >= 0 || d->face[side] != c->face[side])
-            continue;
-        int along = 1;
-        double pos;
-        for (int i = 0; i < c->n && along; i++)
-            along = cb_bool_cut_project(&pos, d, c->xyz + 3 * i, 0, d->n - 1) <= near;
-        if (along)
-            return 1;
-    }
-    return 0;
+    int last = -1;
+    for (int i = 0; i + 1 < c->n; i++)
+        if (!seg_along_imprint(cuts, c, i, side, near, &last))
+            return 0;
+    return 1;
 }
 
 typedef struct {
