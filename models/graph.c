@@ -37,10 +37,8 @@ cb_model_poly cb_model_poly_mul(const cb_model_poly *a, const cb_model_poly *b)
                         continue;
                     if (i + k > DEG || j + l > DEG ||
                         __builtin_mul_overflow(a->c[i][j], b->c[k][l], &v) ||
-                        __builtin_add_overflow(p.c[i + k][j + l], v, &p.c[i + k][j + l])) {
+                        __builtin_add_overflow(p.c[i + k][j + l], v, &p.c[i + k][j + l]))
                         p.overflow = 1;
-                        continue;
-                    }
                 }
         }
     return p;
