@@ -72,11 +72,15 @@ static int same_net(const cb_nurbs_surface_struct *s, const cb_nurbs_surface_str
     return 1;
 }
 
-/* Checks the candidate a over range against s: its exact rational form over the range must be
- * s's net. */
+/* Checks the candidate a over [u0, u1] x [v0, v1] (stored in range) against s: its exact
+ * rational form over the range must be s's net. */
 static int confirm(const cb_nurbs_surface_struct *s, const cb_analytic_surface *a,
-                   const double range[4], double delta)
+                   double range[4], double u0, double u1, double v0, double v1, double delta)
 {
+    range[0] = u0;
+    range[1] = u1;
+    range[2] = v0;
+    range[3] = v1;
     cb_nurbs_surface_t c;
     cb_nurbs_surface_init(c);
     cb_error err;
@@ -113,11 +117,7 @@ static int recog_plane(cb_analytic_surface *a, double range[4], const cb_nurbs_s
     cb_error err;
     if (cb_frame_make(&f, o, z, x, &err) != CB_OK || cb_analytic_plane(a, &f, &err) != CB_OK)
         return 0;
-    range[0] = u0;
-    range[1] = u1;
-    range[2] = v0;
-    range[3] = v1;
-    return confirm(s, a, range, delta);
+    return confirm(s, a, range, u0, u1, v0, v1, delta);
 }
 
 /* The middle point (tau = 1/2) of the rational quadratic with control points p0, m, p2 and
@@ -153,6 +153,16 @@ static int arc_circle(double c[3], double *rad, const double p0[3], const double
     return *rad > 0;
 }
 
+/* The direction x of angle 0 about the unit axis z, given the unit direction r (normal to z)
+ * of angle a0: r turned back by a0 (y = z x x). */
+static void angle_zero(double x[3], const double z[3], const double r[3], double a0)
+{
+    double t[3];
+    cross3(t, z, r);
+    for (int k = 0; k < 3; k++)
+        x[k] = cos(a0) * r[k] - sin(a0) * t[k];
+}
+
 /* A cylinder: degree (2, 1), a circular arc in u (knots of cb_analytic_to_nurbs: the angles)
  * times a unit-speed line in v along the axis. */
 static int recog_cylinder(cb_analytic_surface *a, double range[4],
@@ -175,28 +185,20 @@ static int recog_cylinder(cb_analytic_surface *a, double range[4],
     for (int k = 0; k < 3; k++)
         z[k] /= len;
     /* The first arc's circle: its ends and its middle (tau = 1/2). */
-    double c[3], rad, r0[3], t2[3];
+    double c[3], rad, r0[3], x[3], o[3];
     if (!arc_circle(c, &rad, p0, m, p2, s->cw[4 * (1 * s->n_v) + 3]))
         return 0;
     sub3(r0, p0, c);
-    for (int k = 0; k < 3; k++)
-        r0[k] /= rad;
-    /* x: the direction of angle 0, r0 turned back by a0 about z (y = z x x). */
-    cross3(t2, z, r0);
-    double x[3], o[3];
     for (int k = 0; k < 3; k++) {
-        x[k] = cos(a0) * r0[k] - sin(a0) * t2[k];
+        r0[k] /= rad;
         o[k] = c[k] - v0 * z[k];
     }
+    angle_zero(x, z, r0, a0);
     cb_frame f;
     cb_error err;
     if (cb_frame_make(&f, o, z, x, &err) != CB_OK || cb_analytic_cylinder(a, &f, rad, &err) != CB_OK)
         return 0;
-    range[0] = a0;
-    range[1] = a1;
-    range[2] = v0;
-    range[3] = v1;
-    return confirm(s, a, range, delta);
+    return confirm(s, a, range, a0, a1, v0, v1, delta);
 }
 
 /* A sphere: degree (2, 2), circular arcs in u (parallels, the angles as knots) and in v
@@ -240,7 +242,7 @@ static int recog_sphere(cb_analytic_surface *a, double range[4], const cb_nurbs_
     if (!(best > 0))
         return 0;
     /* x0 less its component along the axis: the direction of angle u0. */
-    double along = dot3(x0, z), y0[3], x[3];
+    double along = dot3(x0, z), x[3];
     for (int k = 0; k < 3; k++)
         x0[k] -= along * z[k];
     double lx = norm3(x0);
@@ -248,18 +250,12 @@ static int recog_sphere(cb_analytic_surface *a, double range[4], const cb_nurbs_
         return 0;
     for (int k = 0; k < 3; k++)
         x0[k] /= lx;
-    cross3(y0, z, x0);
-    for (int k = 0; k < 3; k++)
-        x[k] = cos(u0) * x0[k] - sin(u0) * y0[k];
+    angle_zero(x, z, x0, u0);
     cb_frame f;
     cb_error err;
     if (cb_frame_make(&f, o, z, x, &err) != CB_OK || cb_analytic_sphere(a, &f, rad, &err) != CB_OK)
         return 0;
-    range[0] = u0;
-    range[1] = u1;
-    range[2] = v0;
-    range[3] = v1;
-    return confirm(s, a, range, delta);
+    return confirm(s, a, range, u0, u1, v0, v1, delta);
 }
 
 int _cb_ssi_recognise(cb_analytic_surface *a, double range[4], const cb_nurbs_surface_struct *s,
