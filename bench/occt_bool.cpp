@@ -1,10 +1,10 @@
 // Open CASCADE side of the Boolean comparison (built only when OCCT is installed; see
-// scripts/setup-bench; run by bench_scenarios). For two STEP solids A and B and each of
-// union, intersection and A - B (BRepAlgoAPI_Fuse, _Common, _Cut, parallel mode on): the
+// scripts/setup-bench; run by bench_scenarios and bench_bool). For two STEP solids A and B and
+// each of union, intersection and A - B (BRepAlgoAPI_Fuse, _Common, _Cut, parallel mode on): the
 // median, least and largest wall time of RUNS runs, whether OCCT reports an error, the
 // result's validity (BRepCheck_Analyzer), faces and volume by adaptive integration (the
 // default Gauss rule is off by up to ~1% on rational faces). With OP, only that operation
-// ("none": only read the files), so that bench_scenarios can take each one's peak memory
+// ("none": only read the files), so that the benchmarks can take each one's peak memory
 // from a process of its own.
 // Usage: occt_bool RUNS A.step B.step [union|intersection|difference|none]
 // Output, one line per operation: OP MEDIAN_MS MIN_MS MAX_MS ERROR VALID FACES VOLUME
