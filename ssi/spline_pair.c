@@ -29,15 +29,19 @@ typedef struct {
     const _cb_ssi_bez *b;
     node *nd;
     int n, alloc, nn; /* nodes; nn normal coefficients per node */
+    /* C(r, k) for r <= rows (the degrees of the normals' products, 3 max(m, n)), row-major:
+     * every node's normal coefficients weigh each term by binomials, too many to recompute
+     * (the rational patches of degree 6 x 10 spent most of their subdivision time there).
+     * Doubles, exact below 2^53. */
+    double *bin;
+    int rows;
 } tree;
 
-static long binom(int n, int k)
+static double binom(const tree *T, int n, int k)
 {
-    long r = 1;
-    for (int i = 1; i <= k; i++)
-        r = r * (n - k + i) / i;
-    return r;
+    return T->bin[n * (T->rows + 1) + k];
 }
+
 
 /* A scalar polynomial in Bernstein form of bidegree (a, b), coefficients c[i (b + 1) + j]. */
 typedef struct {
@@ -48,22 +52,24 @@ typedef struct {
 /* out += sg f g (out of bidegree (f.a + g.a, f.b + g.b), already sized): the Bernstein product
  * c_kl = sum C(a1,i) C(a2,k-i) / C(a1+a2,k) C(b1,j) C(b2,l-j) / C(b1+b2,l) f_ij g_(k-i)(l-j),
  * the weights enclosed with outward rounding. */
-static void bp_mul_acc(bpoly *out, const bpoly *f, const bpoly *g, int sg)
+static void bp_mul_acc(const tree *T, bpoly *out, const bpoly *f, const bpoly *g, int sg)
 {
     int A = f->a + g->a, B = f->b + g->b;
     for (int i = 0; i <= f->a; i++)
         for (int j = 0; j <= f->b; j++)
-            for (int i2 = 0; i2 <= g->a; i2++)
+            for (int i2 = 0; i2 <= g->a; i2++) {
+                double ci = binom(T, f->a, i) * binom(T, g->a, i2), cj = binom(T, f->b, j);
+                double dk = binom(T, A, i + i2);
                 for (int j2 = 0; j2 <= g->b; j2++) {
-                    double num = (double)(binom(f->a, i) * binom(g->a, i2)) *
-                                 (double)(binom(f->b, j) * binom(g->b, j2));
-                    double den = (double)binom(A, i + i2) * (double)binom(B, j + j2);
+                    double num = ci * (cj * binom(T, g->b, j2));
+                    double den = dk * binom(T, B, j + j2);
                     double w = sg * num / den;
                     _cb_iv wi = {_cb_iv_dn(w), _cb_iv_up(w)};
                     _cb_iv *o = out->c + (i + i2) * (B + 1) + j + j2;
                     *o = _cb_iv_add(*o, _cb_iv_mul(wi, _cb_iv_mul(f->c[i * (f->b + 1) + j],
                                                                    g->c[i2 * (g->b + 1) + j2])));
                 }
+            }
 }
 
 static void bp_zero(bpoly *p, int a, int b)
@@ -79,7 +85,7 @@ static void bp_zero(bpoly *p, int a, int b)
  * N / w^3 (the constant factors m, n of the derivatives dropped, as they are positive), so N
  * points along every normal of the patch, which is what the direction test needs. Out:
  * 3 (3m)(3n) intervals, coefficient (k, l) at 3 (k (3n) + l). */
-static int rational_normals(_cb_iv *out, const _cb_iv *H, int m, int n)
+static int rational_normals(const tree *T, _cb_iv *out, const _cb_iv *H, int m, int n)
 {
     bpoly P[4], Pu[4], Pv[4], C[1], N[1];
     /* One arena: 12 factors of at most (m + 1)(n + 1) coefficients, C of at most
@@ -123,9 +129,9 @@ static int rational_normals(_cb_iv *out, const _cb_iv *H, int m, int n)
         for (int t = 0; t < 3; t++) {
             /* C = (left x right)_q = left_a right_b - left_b right_a */
             bp_zero(C, lf[t][0].a + rt[t][0].a, lf[t][0].b + rt[t][0].b);
-            bp_mul_acc(C, lf[t] + a, rt[t] + b, 1);
-            bp_mul_acc(C, lf[t] + b, rt[t] + a, -1);
-            bp_mul_acc(N, wf[t], C, sg[t]);
+            bp_mul_acc(T, C, lf[t] + a, rt[t] + b, 1);
+            bp_mul_acc(T, C, lf[t] + b, rt[t] + a, -1);
+            bp_mul_acc(T, N, wf[t], C, sg[t]);
         }
         for (int k = 0; k < 3 * m; k++)
             for (int l = 0; l < 3 * n; l++)
@@ -157,7 +163,7 @@ static int node_finish(tree *T, int k)
                    (d->hi[2] - d->lo[2]) * (d->hi[2] - d->lo[2]));
     int K = (T->b->rat ? 3 : 2) * m, L = (T->b->rat ? 3 : 2) * n;
     _cb_iv *N = calloc((size_t)(3 * K * L), sizeof(_cb_iv));
-    if (!N || (T->b->rat && rational_normals(N, d->net, m, n))) {
+    if (!N || (T->b->rat && rational_normals(T, N, d->net, m, n))) {
         free(N);
         return -1;
     }
@@ -176,9 +182,9 @@ static int node_finish(tree *T, int k)
                         X[q] = _cb_iv_sub(_cb_iv_mul(A[a], B[b]), _cb_iv_mul(A[b], B[a]));
                     }
                     int k = i + i2, l = j + j2;
-                    double num = (double)(binom(m - 1, i) * binom(m, i2)) *
-                                 (double)(binom(n, j) * binom(n - 1, j2));
-                    double den = (double)binom(2 * m - 1, k) * (double)binom(2 * n - 1, l);
+                    double num = (binom(T, m - 1, i) * binom(T, m, i2)) *
+                                 (binom(T, n, j) * binom(T, n - 1, j2));
+                    double den = binom(T, 2 * m - 1, k) * binom(T, 2 * n - 1, l);
                     double w = num / den;
                     _cb_iv wi = {_cb_iv_dn(w), _cb_iv_up(w)};
                     for (int q = 0; q < 3; q++)
@@ -242,9 +248,21 @@ static int tree_init(tree *T, const _cb_ssi_bez *b)
     memset(T, 0, sizeof(*T));
     T->b = b;
     T->nn = (b->rat ? 9 : 4) * b->m * b->n;
-    int k = node_add(T);
-    if (k < 0)
+    T->rows = 3 * (b->m > b->n ? b->m : b->n);
+    int w = T->rows + 1;
+    T->bin = malloc((size_t)(w * w) * sizeof(double));
+    if (!T->bin)
         return -1;
+    for (int r = 0; r < w; r++) {
+        T->bin[r * w] = 1;
+        for (int c = 1; c < w; c++)
+            T->bin[r * w + c] = r ? T->bin[(r - 1) * w + c - 1] + T->bin[(r - 1) * w + c] : 0;
+    }
+    int k = node_add(T);
+    if (k < 0) {
+        free(T->bin);
+        return -1;
+    }
     node *d = T->nd + k;
     const double box[4] = {0, 1, 0, 1};
     memcpy(d->box, box, sizeof box);
@@ -267,6 +285,7 @@ static void tree_clear(tree *T)
         free(T->nd[k].nr);
     }
     free(T->nd);
+    free(T->bin);
 }
 
 /* Children of node k (u halves outer, v halves inner), made once; -1 when out of memory (the
