@@ -1,9 +1,11 @@
 /* colibri ssi: intersection curves of the faces of two STEP models. */
+#define _POSIX_C_SOURCE 200809L /* isatty */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "boolean/bool.h"
 #include "cli/commands.h"
@@ -47,7 +49,8 @@ static const char SSI_USAGE[] =
     "               takes (default 12); pairs above it take the subdivision route (B-spline\n"
     "               pairs) or are listed not certified. The paper's Example 2 needs 27 (about\n"
     "               6 s); the topology's time grows fast with it\n"
-    "  --quiet      print nothing on stdout (the exit status and --json OUT still tell);\n"
+    "  --quiet      print nothing on stdout (the exit status and --json OUT still tell)\n"
+    "               and no progress (face pairs done, on stderr when it is a terminal);\n"
     "               errors still go to stderr\n"
     "  --rotate-b AX AY AZ DEG  turn B by DEG degrees about the axis (AX, AY, AZ) through\n"
     "               the origin first (B against a moved copy of itself)\n"
@@ -197,10 +200,21 @@ int cb_cli_ssi(int argc, char **argv)
     cb_cli_move_apply(&move, body[1]);
     double t1 = wall_s();
     o.keep_marks = svg != NULL;
+    /* Models against moved copies of themselves run for minutes: the face pairs done. */
+    cb_context ctx;
+    cb_context_init(&ctx);
+    int tty = !quiet && isatty(STDERR_FILENO), shown = -1;
+    if (tty) {
+        ctx.progress = cb_cli_progress;
+        ctx.user = &shown;
+        o.progress = &ctx;
+    }
     cb_ssi_result_t r;
     cb_ssi_result_init(r);
     cb_error_clear(&err);
     cb_status st = cb_ssi_bodies(r, body[0], body[1], &o, &err);
+    if (tty)
+        fputc('\n', stderr);
     slong untrimmed[2] = {r->n_curves, r->n_points};
     if (st == CB_OK)
         st = cb_bool_ssi_trim(r, body[0], body[1], r->tol, &err);

@@ -111,6 +111,9 @@ typedef struct {
     const cb_context *cancel; /* NULL (default), or a context whose cancellation
                                  (cb_context_cancel) cb_ssi_bodies checks before each face
                                  pair: it then stops with CB_ERR_CANCELLED */
+    cb_context *progress; /* NULL (default), or a context whose progress callback
+                             cb_ssi_bodies calls with the face pairs done out of those to run
+                             (stage "ssi"; pairs differ widely in cost) */
     int keep_marks; /* 0 (default); 1: r->mark gets the vertices of the certified topology
                        graphs (cb_ssi_mark), for pictures; costs a little memory per pair */
     int topo_transpose; /* 1 (default): a patch pair whose curve topology is refused as not in

@@ -1,5 +1,6 @@
 /* ssi_body.c — every face of one body against every face of another (see cb_ssi_bodies). */
 #include <math.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -189,6 +190,8 @@ typedef struct {
     fpair *f;
     const cb_ssi_surface *sa, *sb;
     cb_ssi_opts o;
+    atomic_long done; /* face pairs finished, for progress */
+    long total;       /* face pairs to run */
 } fctx;
 
 static void fbody(void *vctx, size_t begin, size_t end)
@@ -204,6 +207,9 @@ static void fbody(void *vctx, size_t begin, size_t end)
         else
             F->st = cb_ssi_surfaces(F->r, c->sa + F->i, c->sb + F->j, F->i, F->j, &c->o,
                                     &F->err);
+        if (c->o.progress)
+            cb_context_progress(c->o.progress, (double)(atomic_fetch_add(&c->done, 1) + 1),
+                                (double)c->total, "ssi");
     }
 }
 
@@ -273,7 +279,9 @@ cb_status cb_ssi_bodies(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_
         cb_error_set(err, st, "ssi: out of memory preparing %d x %d faces", a->n_faces,
                      b->n_faces);
     } else {
-        fctx fc = {fp, sa, sb, o};
+        fctx fc = {fp, sa, sb, o, 0, 0};
+        for (slong k = 0; k < nf; k++)
+            fc.total += fp[k].run;
         fc.o.threads = 1;
         st = cb_parallel_for((size_t)nf, 1, o.threads, fbody, &fc);
         if (st != CB_OK)

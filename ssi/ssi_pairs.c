@@ -39,6 +39,7 @@ void cb_ssi_opts_default(cb_ssi_opts *o)
     o->spline_max_subpairs = 20000;
     o->recognise = 1;
     o->cancel = NULL;
+    o->progress = NULL;
     o->keep_marks = 0;
     o->topo_transpose = 1;
 }

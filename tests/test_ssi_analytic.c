@@ -834,6 +834,21 @@ static void face_table(char *out, size_t cap, const cb_ssi_result_t r)
  *   root circle is cut by the top (bottom) of the other cube's face box (4 + 4 arcs); the
  *   parallel arms touch along lines (4 tangential): 28 open; the four side faces and the four
  *   caps are coplanar (8, same orientation). */
+/* Progress of cb_ssi_bodies as its callback sees it. */
+typedef struct {
+    int calls, decreased, other_stage;
+    double last;
+} progress_seen;
+
+static void record_progress(void *user, double fraction, const char *stage)
+{
+    progress_seen *p = user;
+    p->decreased += p->calls > 0 && fraction < p->last;
+    p->other_stage += strcmp(stage, "ssi") != 0;
+    p->last = fraction;
+    p->calls++;
+}
+
 static void test_cardan(void)
 {
     for (int k = 0; k < cb_cardan_scenario_count(); k++) {
@@ -852,14 +867,25 @@ static void test_cardan(void)
                 return;
             }
             cb_ssi_result_t r[2];
+            progress_seen seen = {0, 0, 0, 0};
             for (int t = 0; t < 2; t++) {
                 cb_ssi_opts o;
                 cb_ssi_opts_default(&o);
                 o.threads = t + 1;
+                cb_context ctx;
+                cb_context_init(&ctx);
+                ctx.progress = record_progress;
+                ctx.user = &seen;
+                if (t == 1)
+                    o.progress = &ctx;
                 cb_ssi_result_init(r[t]);
                 cb_status st = cb_ssi_bodies(r[t], A, B, &o, &err);
                 CHECK(st == CB_OK, "%s: %s", s.name, err.msg);
             }
+            /* The 2-thread run reported its face pairs: rising to all of them, stage "ssi". */
+            CHECK(seen.calls > 0 && seen.last == 1 && !seen.decreased && !seen.other_stage,
+                  "%s: progress: %d calls, last %g, %d decreasing, %d of another stage", s.name,
+                  seen.calls, seen.last, seen.decreased, seen.other_stage);
             const char *form = nurbs ? "as_nurbs" : "analytic";
             counts got = count(r[0]), want = CARDAN[k].c;
             CHECK(r[0]->n_failed == 0 && r[0]->status == CB_OK,
