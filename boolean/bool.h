@@ -249,9 +249,10 @@ typedef struct {
  * faces are not coincident (normals not within acos 0.9: CB_ERR_UNSUPPORTED), faces lying on one
  * surface only in part (CB_ERR_UNSUPPORTED), pieces that do not sew up (CB_ERR_NUMERIC with the
  * count). Isolated touching points do not split faces; operands touching along a curve or at
- * points give a union of solids that touch there, as the exact union does. ctx: threads for the SSI, progress (stage "boolean"),
- * cancellation before each face pair of the intersection stage and between faces; may be
- * NULL. stats may be NULL. */
+ * points give a union of solids that touch there, as the exact union does. ctx: threads for
+ * the SSI's face pairs and for splitting the faces (the result does not depend on them),
+ * progress (stage "boolean"), cancellation before each face pair of the intersection stage and
+ * before each face split; may be NULL. stats may be NULL. */
 cb_status cb_bool_run(cb_topo_body **out, cb_bool_stats *stats, cb_bool_op op,
                       const cb_topo_body *A, const cb_topo_body *B, const cb_bool_opts *opts,
                       cb_context *ctx, cb_error *err);

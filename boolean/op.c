@@ -4,6 +4,7 @@
 #include "boolean/op_internal.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,6 +13,7 @@
 #include "boolean/arrange.h"
 #include "boolean/cut_internal.h"
 #include "brep/geom.h"
+#include "brep/parallel.h"
 
 const char *cb_bool_op_name(cb_bool_op op)
 {
@@ -464,6 +466,68 @@ static cb_status split_face(op_face *of, const split_ctx *sc, int side, int face
     return st;
 }
 
+/* The faces of A then B split in parallel: each writes only its own op_face, counters, status
+ * and message, combined in face order afterwards, so the result does not depend on the number
+ * of threads. */
+typedef struct {
+    const split_ctx *sc;
+    op_face *faces;
+    cb_bool_stats *part; /* per face: its pieces and kept regions */
+    cb_status *st;
+    cb_error *err;
+    int n_a; /* A's faces come first */
+    int n;
+    cb_context *ctx;
+    atomic_int done; /* faces finished, for progress */
+} split_job;
+
+static void split_body(void *v, size_t begin, size_t end)
+{
+    split_job *j = v;
+    for (size_t i = begin; i < end; i++) {
+        int k = (int)i, side = k >= j->n_a, face = side ? k - j->n_a : k;
+        if (j->ctx && cb_context_cancelled(j->ctx))
+            j->st[k] = cb_error_set(j->err + k, CB_ERR_CANCELLED, "bool: cancelled");
+        else
+            j->st[k] = split_face(j->faces + k, j->sc, side, face, j->part + k, j->err + k);
+        if (j->ctx)
+            cb_context_progress(j->ctx, 1 + 2.0 * (atomic_fetch_add(&j->done, 1) + 1) / j->n, 4,
+                                "boolean");
+    }
+}
+
+/* Splits every face (split_face) on the context's threads; the first failing face in order
+ * gives the status and message. */
+static cb_status split_faces(op_face *faces, const split_ctx *sc, int n_a, int n, int threads,
+                             cb_context *ctx, cb_bool_stats *stats, cb_error *err)
+{
+    split_job j = {sc, faces, NULL, NULL, NULL, n_a, n, ctx, 0};
+    j.part = calloc((size_t)n + 1, sizeof *j.part);
+    j.st = calloc((size_t)n + 1, sizeof *j.st);
+    j.err = calloc((size_t)n + 1, sizeof *j.err);
+    cb_status st;
+    if (!j.part || !j.st || !j.err)
+        st = cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+    else if ((st = cb_parallel_for((size_t)n, 1, threads, split_body, &j)))
+        cb_error_set(err, st, "bool: splitting the faces in parallel failed: %s",
+                     cb_status_name(st));
+    for (int k = 0; k < n && !st; k++) {
+        for (int s = 0; s < 2; s++) {
+            stats->pieces[s] += j.part[k].pieces[s];
+            stats->kept[s] += j.part[k].kept[s];
+        }
+        if (j.st[k]) {
+            st = j.st[k];
+            if (err)
+                *err = j.err[k];
+        }
+    }
+    free(j.part);
+    free(j.st);
+    free(j.err);
+    return st;
+}
+
 cb_status cb_bool_run(cb_topo_body **out, cb_bool_stats *stats, cb_bool_op op,
                       const cb_topo_body *A, const cb_topo_body *B, const cb_bool_opts *opts,
                       cb_context *ctx, cb_error *err)
@@ -559,14 +623,8 @@ cb_status cb_bool_run(cb_topo_body **out, cb_bool_stats *stats, cb_bool_op op,
     if (!st && !faces)
         st = cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
     split_ctx sc = {op, {S[0], S[1]}, &cuts, CB_BOOL_SNAP * tol, tol};
-    for (int k = 0; k < n_faces && !st; k++) {
-        int side = k >= A->n_faces, face = side ? k - A->n_faces : k;
-        st = split_face(faces + k, &sc, side, face, stats, err);
-        if (!st && ctx && cb_context_cancelled(ctx))
-            st = cb_error_set(err, CB_ERR_CANCELLED, "bool: cancelled");
-        if (!st && ctx)
-            cb_context_progress(ctx, 1 + 2.0 * (k + 1) / n_faces, 4, "boolean");
-    }
+    if (!st)
+        st = split_faces(faces, &sc, A->n_faces, n_faces, threads, ctx, stats, err);
     stats->time_split = wall() - t1;
 
     double t2 = wall();
