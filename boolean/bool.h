@@ -213,7 +213,9 @@ typedef struct {
     int pieces[2];      /* face pieces of A and of B after splitting */
     int kept[2];        /* of which the operation keeps */
     int unmatched;      /* result edges not used by exactly two coedges */
-    double time_ssi, time_split, time_build; /* seconds */
+    /* Seconds: the intersection (cb_ssi_bodies); the solids prepared for classification, the
+     * cuts and the faces split; the result sewn. */
+    double time_ssi, time_split, time_build;
 } cb_bool_stats;
 
 /* The union, intersection or difference A - B of two closed solids as a new body *out (free

@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "brep/parallel.h"
+
 int _cb_cut_run_push(cut_run *r, const cut_pt *p)
 {
     if (r->n == r->cap) {
@@ -777,15 +779,36 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
     return st;
 }
 
+/* The two solids of _cb_bool_solids_cuts, one per task. */
+typedef struct {
+    cb_bool_solid **S;
+    const cb_topo_body *body[2];
+    double tol;
+    cb_status st[2];
+    cb_error err[2];
+} solids_job;
+
+static void solids_body(void *v, size_t begin, size_t end)
+{
+    solids_job *j = v;
+    for (size_t k = begin; k < end; k++)
+        j->st[k] = cb_bool_solid_new(j->S + k, j->body[k], j->tol, j->err + k);
+}
+
 cb_status _cb_bool_solids_cuts(cb_bool_solid *S[2], cb_bool_cuts *cuts,
                                const cb_ssi_result_struct *r, const cb_topo_body *A,
-                               const cb_topo_body *B, double tol, cb_error *err)
+                               const cb_topo_body *B, double tol, int threads, cb_error *err)
 {
     S[0] = S[1] = NULL;
     cb_bool_cuts_init(cuts);
-    cb_status st = cb_bool_solid_new(S, A, tol, err);
-    if (!st)
-        st = cb_bool_solid_new(S + 1, B, tol, err);
+    solids_job j = {S, {A, B}, tol, {CB_OK, CB_OK}, {{0}, {0}}};
+    cb_status st = cb_parallel_for(2, 1, threads, solids_body, &j);
+    if (st)
+        return cb_error_set(err, st, "bool: preparing the solids in parallel failed: %s",
+                            cb_status_name(st));
+    for (int k = 0; k < 2 && !st; k++)
+        if ((st = j.st[k]) && err)
+            *err = j.err[k];
     if (!st)
         st = cb_bool_cuts_make(cuts, r, S[0], S[1], tol, err);
     return st;

@@ -47,11 +47,11 @@ cb_status _cb_cuts_imprint(cb_bool_cuts *out, const cb_ssi_result_struct *r,
                            const cb_bool_solid *A, const cb_bool_solid *B, double tol,
                            cb_error *err);
 
-/* Prepares A and B for classification (S, cb_bool_solid_new) and makes the cuts of r between
- * them (cb_bool_cuts_make). The caller frees S[0], S[1] (NULL when not made) and clears cuts,
- * whatever the status. */
+/* Prepares A and B for classification (S, cb_bool_solid_new; the two side by side on up to
+ * `threads` threads, 0: all) and makes the cuts of r between them (cb_bool_cuts_make). The
+ * caller frees S[0], S[1] (NULL when not made) and clears cuts, whatever the status. */
 cb_status _cb_bool_solids_cuts(cb_bool_solid *S[2], cb_bool_cuts *cuts,
                                const cb_ssi_result_struct *r, const cb_topo_body *A,
-                               const cb_topo_body *B, double tol, cb_error *err);
+                               const cb_topo_body *B, double tol, int threads, cb_error *err);
 
 #endif

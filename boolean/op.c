@@ -611,13 +611,13 @@ cb_status cb_bool_run(cb_topo_body **out, cb_bool_stats *stats, cb_bool_op op,
         return st;
     }
 
+    double t1 = wall();
     cb_bool_solid *S[2];
     cb_bool_cuts cuts;
-    st = _cb_bool_solids_cuts(S, &cuts, r, A, B, tol, err);
+    st = _cb_bool_solids_cuts(S, &cuts, r, A, B, tol, threads, err);
     cb_ssi_result_clear(r);
     stats->cuts = cuts.n;
 
-    double t1 = wall();
     int n_faces = A->n_faces + B->n_faces;
     op_face *faces = calloc((size_t)n_faces, sizeof *faces);
     if (!st && !faces)

@@ -82,7 +82,7 @@ cb_status cb_bool_ssi_trim(cb_ssi_result_struct *r, const cb_topo_body *A, const
 {
     cb_bool_solid *S[2];
     cb_bool_cuts cuts;
-    cb_status st = _cb_bool_solids_cuts(S, &cuts, r, A, B, tol, err);
+    cb_status st = _cb_bool_solids_cuts(S, &cuts, r, A, B, tol, 0, err);
     if (!st && take_cuts(r, &cuts) != CB_OK)
         st = cb_error_set(err, CB_ERR_NOMEM, "ssi trim: out of memory");
     /* Isolated points: kept when inside (or on the boundary of) both faces. */
