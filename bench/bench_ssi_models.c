@@ -19,12 +19,15 @@
  * figures come the same way from occt_section.
  *
  * Usage: bench_ssi_models [RUNS] [--shared DIR] [--occt OCCT_SECTION] [--json OUT]
- *                         [--only CASE]
+ *                         [--only CASE] [--limit SECONDS]
  *   RUNS default 1 (the trj5 case takes minutes); DIR holds models/ (default $COLIBRI_SHARED,
- *   else ../shared); without --occt (or with "-") Colibri alone.
- * Internal: bench_ssi_models --case K RUNS DIR   (RUNS 0: only read the files) */
+ *   else ../shared); without --occt (or with "-") Colibri alone. --limit: a case's Colibri
+ *   runs are cancelled (cb_context_cancel, checked before each face pair) once they have taken
+ *   that long, and the row says how far they got (default 0: no limit).
+ * Internal: bench_ssi_models --case K RUNS DIR LIMIT   (RUNS 0: only read the files) */
 #define _DEFAULT_SOURCE /* wait4: the rusage of one child, not of all of them */
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -163,10 +166,28 @@ static void describe_failures(colibri_row *o, const cb_ssi_result_t r, const cb_
                  r->failed[0].face_b, r->failed[0].msg);
 }
 
-/* --case K RUNS DIR: reads case k's files, moves B, and with RUNS > 0 runs the SSI RUNS times
- * on 1 and 2 threads and the trimming after each thread count's last run; writes a
- * colibri_row to stdout. */
-static int case_mode(int k, int runs, const char *dir)
+/* The case's time limit: SIGALRM cancels its runs (an atomic store, safe in a handler), and
+ * the progress reports say which fraction of the face pairs the running call had done. */
+static cb_context limit_ctx;
+static double limit_done;
+
+static void limit_reached(int sig)
+{
+    (void)sig;
+    cb_context_cancel(&limit_ctx);
+}
+
+static void limit_progress(void *user, double fraction, const char *stage)
+{
+    (void)user;
+    (void)stage;
+    limit_done = fraction;
+}
+
+/* --case K RUNS DIR LIMIT: reads case k's files, moves B, and with RUNS > 0 runs the SSI RUNS
+ * times on 1 and 2 threads and the trimming after each thread count's last run, all cancelled
+ * after LIMIT seconds when LIMIT > 0; writes a colibri_row to stdout. */
+static int case_mode(int k, int runs, const char *dir, int limit)
 {
     const model_case *c = CASES + k;
     colibri_row o;
@@ -199,19 +220,36 @@ static int case_mode(int k, int runs, const char *dir)
     cb_ssi_result_t r[2];
     cb_ssi_result_init(r[0]);
     cb_ssi_result_init(r[1]);
+    cb_context_init(&limit_ctx);
+    limit_ctx.progress = limit_progress;
+    if (limit > 0 && runs > 0) {
+        signal(SIGALRM, limit_reached);
+        alarm((unsigned)limit);
+    }
+    double started = now();
     for (int th = 0; th < 2 && runs > 0 && st == CB_OK; th++) {
         double ts[MAX_RUNS];
-        for (int q = 0; q < runs && st == CB_OK; q++) {
+        int nq = 0;
+        for (int q = 0; q < runs && st == CB_OK; q++, nq++) {
             cb_ssi_opts opts;
             cb_ssi_opts_default(&opts);
             opts.threads = th + 1;
+            opts.cancel = &limit_ctx;
+            opts.progress = &limit_ctx;
+            cb_context_progress_reset(&limit_ctx);
+            limit_done = 0;
             cb_ssi_result_clear(r[th]);
             cb_ssi_result_init(r[th]);
             double t0 = now();
             st = cb_ssi_bodies(r[th], body[0], body[1], &opts, &err);
             ts[q] = now() - t0;
+            if (st == CB_ERR_CANCELLED)
+                cb_error_set(&err, st,
+                             "stopped at the limit of %d s (%.0f s in all): the %d-thread run "
+                             "had done %.0f%% of its face pairs",
+                             limit, now() - started, th + 1, 100 * limit_done);
         }
-        stats3(o.t[th], ts, runs);
+        stats3(o.t[th], ts, nq);
     }
     if (runs > 0 && st == CB_OK) {
         const cb_ssi_result_struct *R = r[1];
@@ -347,13 +385,13 @@ static void json_occt(FILE *f, const char *key, const occt_row *o)
 
 int main(int argc, char **argv)
 {
-    if (argc == 5 && !strcmp(argv[1], "--case")) {
+    if (argc == 6 && !strcmp(argv[1], "--case")) {
         int k = atoi(argv[2]), runs = atoi(argv[3]);
         if (k < 0 || k >= N_CASES || runs < 0 || runs > MAX_RUNS)
             return 2;
-        return case_mode(k, runs, argv[4]);
+        return case_mode(k, runs, argv[4], atoi(argv[5]));
     }
-    int runs = 1;
+    int runs = 1, limit = 0;
     const char *dir = getenv("COLIBRI_SHARED"), *occt = NULL, *json_path = NULL, *only = NULL;
     dir = dir ? dir : "../shared";
     for (int i = 1; i < argc; i++) {
@@ -365,11 +403,13 @@ int main(int argc, char **argv)
             json_path = argv[++i];
         else if (!strcmp(argv[i], "--only") && i + 1 < argc)
             only = argv[++i];
+        else if (!strcmp(argv[i], "--limit") && i + 1 < argc && atoi(argv[i + 1]) >= 0)
+            limit = atoi(argv[++i]);
         else if (atoi(argv[i]) >= 1 && atoi(argv[i]) <= MAX_RUNS)
             runs = atoi(argv[i]);
         else {
             fprintf(stderr, "usage: bench_ssi_models [RUNS] [--shared DIR] [--occt OCCT_SECTION] "
-                            "[--json OUT] [--only CASE]\n");
+                            "[--json OUT] [--only CASE] [--limit SECONDS]\n");
             return 2;
         }
     }
@@ -381,7 +421,9 @@ int main(int argc, char **argv)
         return 1;
     }
     char self[] = "/proc/self/exe", ks[16], rs[16], zero[] = "0", flag[] = "--case", dirbuf[1024];
+    char ls[16];
     snprintf(rs, sizeof rs, "%d", runs);
+    snprintf(ls, sizeof ls, "%d", limit);
     snprintf(dirbuf, sizeof dirbuf, "%s", dir);
     printf("SSI of STEP models against moved copies, %d run%s each; Colibri's time is "
            "cb_ssi_bodies, median [min max] s, trimming after it; OCCT: BRepAlgoAPI_Section "
@@ -402,8 +444,8 @@ int main(int argc, char **argv)
         if (only && strcmp(only, c->name))
             continue;
         snprintf(ks, sizeof ks, "%d", k);
-        char *base_argv[] = {self, flag, ks, zero, dirbuf, NULL};
-        char *case_argv[] = {self, flag, ks, rs, dirbuf, NULL};
+        char *base_argv[] = {self, flag, ks, zero, dirbuf, zero, NULL};
+        char *case_argv[] = {self, flag, ks, rs, dirbuf, ls, NULL};
         colibri_row o;
         size_t got;
         long base = -1, peak = -1;
@@ -447,7 +489,8 @@ int main(int argc, char **argv)
         printf("    1 and 2 threads bit-identical: %s before trimming, %s after; isolated points "
                "%ld before trimming; patch pairs proved empty %ld; face pairs on one surface (no "
                "curve) %ld\n",
-               o.same[0] ? "yes" : "NO", o.same[1] ? "yes" : "NO", o.points[0], o.empty,
+               !o.ok ? "-" : o.same[0] ? "yes" : "NO", !o.ok ? "-" : o.same[1] ? "yes" : "NO",
+               o.points[0], o.empty,
                o.coincident);
         printf("    peak memory: Colibri %.1f MiB (reading only %.1f)", mib(peak), mib(base));
         if (occt)

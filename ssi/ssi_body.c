@@ -202,11 +202,11 @@ static void fbody(void *vctx, size_t begin, size_t end)
         if (!F->run)
             continue;
         cb_error_clear(&F->err);
-        if (c->o.cancel && cb_context_cancelled(c->o.cancel))
+        if (c->o.cancel && cb_context_cancelled(c->o.cancel)) {
             F->st = cb_error_set(&F->err, CB_ERR_CANCELLED, "ssi: cancelled");
-        else
-            F->st = cb_ssi_surfaces(F->r, c->sa + F->i, c->sb + F->j, F->i, F->j, &c->o,
-                                    &F->err);
+            continue;
+        }
+        F->st = cb_ssi_surfaces(F->r, c->sa + F->i, c->sb + F->j, F->i, F->j, &c->o, &F->err);
         if (c->o.progress)
             cb_context_progress(c->o.progress, (double)(atomic_fetch_add(&c->done, 1) + 1),
                                 (double)c->total, "ssi");
