@@ -42,7 +42,6 @@ static double binom(const tree *T, int n, int k)
     return T->bin[n * (T->rows + 1) + k];
 }
 
-
 /* A scalar polynomial in Bernstein form of bidegree (a, b), coefficients c[i (b + 1) + j]. */
 typedef struct {
     int a, b;
