@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include <flint/fmpq_poly.h>
+#include <flint/fmpz_vec.h>
 
 void cb_roots_init(cb_roots_t r)
 {
@@ -270,34 +271,110 @@ cb_status cb_roots_isolate(cb_roots_t r, const fmpz_poly_t p, const fmpq_t a, co
     return CB_OK;
 }
 
+/* Sign of p at x_k = (A 2^k + L N) / (D 2^k), D > 0, given c_i = p_i D^(d - i): the sign of
+ * sum_i c_i X^i 2^(k (d - i)) with X = A 2^k + L N, that is of p(x_k) (D 2^k)^d. Integer Horner
+ * without the gcds of a rational evaluation, which made the bisection below the larger part
+ * of a Dixon inversion. */
+static int sign_at_step(const fmpz *c, slong d, const fmpz_t A, const fmpz_t L, const fmpz_t N,
+                        ulong k, fmpz_t X, fmpz_t acc, fmpz_t t)
+{
+    fmpz_mul_2exp(X, A, k);
+    fmpz_addmul(X, L, N);
+    fmpz_set(acc, c + d);
+    for (slong i = d - 1; i >= 0; i--) {
+        fmpz_mul(acc, acc, X);
+        fmpz_mul_2exp(t, c + i, k * (ulong)(d - i));
+        fmpz_add(acc, acc, t);
+    }
+    return fmpz_sgn(acc);
+}
+
+/* out = (A 2^k + L N) / (D 2^k) in lowest terms. */
+static void step_point(fmpq_t out, const fmpz_t A, const fmpz_t L, const fmpz_t D, const fmpz_t N,
+                       ulong k)
+{
+    fmpz_t num, den;
+    fmpz_init(num);
+    fmpz_init(den);
+    fmpz_mul_2exp(num, A, k);
+    fmpz_addmul(num, L, N);
+    fmpz_mul_2exp(den, D, k);
+    fmpq_set_fmpz_frac(out, num, den);
+    fmpz_clear(num);
+    fmpz_clear(den);
+}
+
 void cb_roots_refine(cb_roots_t r, slong k, const fmpq_t width)
 {
     cb_root_interval_struct *iv = &r->root[k];
-    fmpq_t w, mid, val;
+    fmpq_t w;
     fmpq_init(w);
-    fmpq_init(mid);
-    fmpq_init(val);
-    fmpz_poly_evaluate_fmpq(val, r->sqfree, iv->lo);
-    int sign_lo = fmpq_sgn(val);
     fmpq_sub(w, iv->hi, iv->lo);
-    while (fmpq_cmp(w, width) > 0) {
-        fmpq_add(mid, iv->lo, iv->hi);
-        fmpq_div_2exp(mid, mid, 1);
-        fmpz_poly_evaluate_fmpq(val, r->sqfree, mid);
-        int s = fmpq_sgn(val);
+    if (fmpq_cmp(w, width) <= 0) {
+        fmpq_clear(w);
+        return;
+    }
+    /* Bisection: after j steps the interval is lo + (hi - lo) [c, c + 1] / 2^j. The number of
+     * steps K is the least with (hi - lo) / 2^K <= width. */
+    fmpq_div(w, w, width);
+    ulong K = (ulong)FLINT_MAX(0, fmpz_bits(fmpq_numref(w)) - fmpz_bits(fmpq_denref(w)));
+    fmpz_t A, L, D, N, c, X, acc, t;
+    fmpz_init(A);
+    fmpz_init(L);
+    fmpz_init(D);
+    fmpz_init(N);
+    fmpz_init(c);
+    fmpz_init(X);
+    fmpz_init(acc);
+    fmpz_init(t);
+    for (;;) {
+        fmpz_mul_2exp(t, fmpq_denref(w), K);
+        if (fmpz_cmp(t, fmpq_numref(w)) >= 0)
+            break;
+        K++;
+    }
+    /* lo = A / D, hi - lo = L / D. */
+    fmpz_mul(D, fmpq_denref(iv->lo), fmpq_denref(iv->hi));
+    fmpz_mul(A, fmpq_numref(iv->lo), fmpq_denref(iv->hi));
+    fmpz_mul(L, fmpq_numref(iv->hi), fmpq_denref(iv->lo));
+    fmpz_sub(L, L, A);
+    slong d = fmpz_poly_degree(r->sqfree);
+    fmpz *cf = _fmpz_vec_init(d + 1);
+    fmpz_one(t);
+    for (slong i = d; i >= 0; i--) {
+        fmpz_mul(cf + i, r->sqfree->coeffs + i, t);
+        fmpz_mul(t, t, D);
+    }
+    int sign_lo = sign_at_step(cf, d, A, L, c, 0, X, acc, t), exact = 0;
+    for (ulong j = 1; j <= K; j++) {
+        fmpz_mul_2exp(N, c, 1);
+        fmpz_add_ui(N, N, 1);
+        int s = sign_at_step(cf, d, A, L, N, j, X, acc, t);
         if (s == 0) {
-            fmpq_set(iv->lo, mid);
-            fmpq_set(iv->hi, mid);
+            step_point(iv->lo, A, L, D, N, j);
+            fmpq_set(iv->hi, iv->lo);
+            exact = 1;
             break;
         }
         if (s == sign_lo)
-            fmpq_set(iv->lo, mid);
+            fmpz_swap(c, N);
         else
-            fmpq_set(iv->hi, mid);
-        fmpq_div_2exp(w, w, 1);
+            fmpz_mul_2exp(c, c, 1);
     }
-    fmpq_clear(val);
-    fmpq_clear(mid);
+    if (!exact) {
+        step_point(iv->lo, A, L, D, c, K);
+        fmpz_add_ui(c, c, 1);
+        step_point(iv->hi, A, L, D, c, K);
+    }
+    _fmpz_vec_clear(cf, d + 1);
+    fmpz_clear(A);
+    fmpz_clear(L);
+    fmpz_clear(D);
+    fmpz_clear(N);
+    fmpz_clear(c);
+    fmpz_clear(X);
+    fmpz_clear(acc);
+    fmpz_clear(t);
     fmpq_clear(w);
 }
 
