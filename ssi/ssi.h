@@ -56,6 +56,7 @@
 #define CB_SSI_SSI_H
 
 #include "brep/analytic.h"
+#include "brep/bbox.h"
 #include "brep/context.h"
 #include "brep/nurbs.h"
 #include "brep/topo.h"
@@ -374,6 +375,9 @@ typedef struct {
     const cb_dixon_patch_struct *p;        /* P's Bezier patch when !p_analytic */
     const cb_dixon_pencil_struct *p_pencil; /* its Dixon pencil; NULL for a planar patch */
     const cb_dixon_patch_struct *q;        /* Q's Bezier patch */
+    int p_polynomial; /* P's Bezier patch has equal weights; p_net is then the box of its
+                         control points */
+    cb_aabb p_net;
     double tol, chord, max_seg;
 } _cb_ssi_pair_geom;
 

@@ -664,6 +664,8 @@ static void pair_run(pair_job *J, const pair_ctx *c)
         F = ps->F;
         g.p = ps->dp;
         g.p_pencil = ps->has_pencil ? ps->pencil : NULL;
+        g.p_polynomial = !patch_rational(c->ppat + J->ip);
+        cb_nurbs_surface_aabb(&g.p_net, c->ppat + J->ip);
     } else {
         g.p_analytic = 1;
         g.an = c->Ps->analytic;
