@@ -3,6 +3,7 @@
 
 #include <stdlib.h>
 
+#include <arb_poly.h>
 #include <flint/fmpq_poly.h>
 #include <flint/fmpz_vec.h>
 
@@ -304,6 +305,72 @@ static void step_point(fmpq_t out, const fmpz_t A, const fmpz_t L, const fmpz_t 
     fmpz_clear(den);
 }
 
+/* A guess for the cell c of the last bisection step (lo + (hi - lo) [c, c + 1] / 2^K, lo =
+ * A / D, hi - lo = L / D) holding the root: Newton's method on the midpoints of balls at K + 64
+ * bits from the interval's midpoint. 0 when it leaves the interval or does not settle within
+ * 2 log2(K) + 16 steps. Only a guess: the caller checks the cell's ends exactly. */
+static int newton_cell(fmpz_t c, const fmpz_poly_t p, const fmpq_t lo, const fmpq_t hi,
+                       const fmpz_t A, const fmpz_t L, const fmpz_t D, ulong K)
+{
+    slong prec = (slong)K + 64;
+    arb_poly_t ap;
+    arb_t x, v, dv, a, b;
+    arf_t step, tiny;
+    fmpq_t q;
+    arb_poly_init(ap);
+    arb_init(x);
+    arb_init(v);
+    arb_init(dv);
+    arb_init(a);
+    arb_init(b);
+    arf_init(step);
+    arf_init(tiny);
+    fmpq_init(q);
+    arb_poly_set_fmpz_poly(ap, p, prec);
+    arb_set_fmpq(a, lo, prec);
+    arb_set_fmpq(b, hi, prec);
+    arb_add(x, a, b, prec);
+    arb_mul_2exp_si(x, x, -1);
+    /* Settled: a step below 2^-(K + 4) of the interval's width. */
+    arb_sub(v, b, a, prec);
+    arf_mul_2exp_si(tiny, arb_midref(v), -(slong)K - 4);
+    int ok = 0;
+    slong iters = 2 * (slong)FLINT_BIT_COUNT(K) + 16;
+    for (slong it = 0; it < iters; it++) {
+        arb_get_mid_arb(x, x);
+        arb_poly_evaluate2(v, dv, ap, x, prec);
+        if (arf_is_zero(arb_midref(dv)))
+            break;
+        arf_div(step, arb_midref(v), arb_midref(dv), prec, ARF_RND_NEAR);
+        arf_sub(arb_midref(x), arb_midref(x), step, prec, ARF_RND_NEAR);
+        if (arf_cmp(arb_midref(x), arb_midref(a)) <= 0 || arf_cmp(arb_midref(x), arb_midref(b)) >= 0)
+            break;
+        if (arf_cmpabs(step, tiny) <= 0) {
+            ok = 1;
+            break;
+        }
+    }
+    if (ok) {
+        /* c = floor((x D - A) 2^K / L) */
+        arf_get_fmpq(q, arb_midref(x));
+        fmpz_mul(fmpq_numref(q), fmpq_numref(q), D);
+        fmpz_submul(fmpq_numref(q), fmpq_denref(q), A);
+        fmpz_mul_2exp(fmpq_numref(q), fmpq_numref(q), K);
+        fmpz_mul(fmpq_denref(q), fmpq_denref(q), L);
+        fmpz_fdiv_q(c, fmpq_numref(q), fmpq_denref(q));
+    }
+    fmpq_clear(q);
+    arf_clear(step);
+    arf_clear(tiny);
+    arb_clear(x);
+    arb_clear(v);
+    arb_clear(dv);
+    arb_clear(a);
+    arb_clear(b);
+    arb_poly_clear(ap);
+    return ok;
+}
+
 void cb_roots_refine(cb_roots_t r, slong k, const fmpq_t width)
 {
     cb_root_interval_struct *iv = &r->root[k];
@@ -346,7 +413,43 @@ void cb_roots_refine(cb_roots_t r, slong k, const fmpq_t width)
         fmpz_mul(t, t, D);
     }
     int sign_lo = sign_at_step(cf, d, A, L, c, 0, X, acc, t), exact = 0;
-    for (ulong j = 1; j <= K; j++) {
+    /* The bisection ends in the cell of 2^K holding the root, or at a cell end that is the root
+     * (every cell end is a midpoint of the bisection, which would hit it): where Newton's
+     * guess is confirmed by the signs at a cell's ends, that is the answer without the K
+     * steps (the 160-bit probe of a critical value, the 2^-56 of a Dixon inversion). */
+    ulong j0 = 1;
+    if (K >= 8 && newton_cell(N, r->sqfree, iv->lo, iv->hi, A, L, D, K)) {
+        fmpz_t last;
+        fmpz_init(last);
+        fmpz_one_2exp(last, K);
+        fmpz_sub_ui(last, last, 1);
+        for (int tries = 0; tries < 4 && j0 == 1; tries++) {
+            if (fmpz_sgn(N) < 0)
+                fmpz_zero(N);
+            if (fmpz_cmp(N, last) > 0)
+                fmpz_set(N, last);
+            int s0 = fmpz_is_zero(N) ? sign_lo : sign_at_step(cf, d, A, L, N, K, X, acc, t);
+            fmpz_add_ui(c, N, 1);
+            int s1 = fmpz_cmp(N, last) == 0 ? -sign_lo : sign_at_step(cf, d, A, L, c, K, X, acc, t);
+            if (s0 == 0 || s1 == 0) {
+                step_point(iv->lo, A, L, D, s0 == 0 ? N : c, K);
+                fmpq_set(iv->hi, iv->lo);
+                exact = 1;
+                j0 = K + 1;
+            } else if (s0 == sign_lo && s1 != sign_lo) {
+                fmpz_set(c, N);
+                j0 = K + 1;
+            } else if (s0 != sign_lo) {
+                fmpz_sub_ui(N, N, 1);
+            } else {
+                fmpz_add_ui(N, N, 1);
+            }
+        }
+        fmpz_clear(last);
+        if (j0 == 1)
+            fmpz_zero(c);
+    }
+    for (ulong j = j0; j <= K; j++) {
         fmpz_mul_2exp(N, c, 1);
         fmpz_add_ui(N, N, 1);
         int s = sign_at_step(cf, d, A, L, N, j, X, acc, t);
