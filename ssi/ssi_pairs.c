@@ -613,7 +613,7 @@ static cb_status topo_trace(pair_job *J, const pair_ctx *c, const _cb_ssi_pair_g
         _cb_ssi_sqf_init(&h);
         _cb_ssi_trace_set ts;
         _cb_ssi_trace_set_init(&ts);
-        st = _cb_ssi_sqf_set(&h, mp, ctx);
+        st = _cb_ssi_sqf_set(&h, T->h);
         if (st == CB_OK) {
             _cb_ssi_vertex_refine(T, &h);
             if (c->opts->keep_marks)
