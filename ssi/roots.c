@@ -6,6 +6,7 @@
 #include <arb_poly.h>
 #include <flint/fmpq_poly.h>
 #include <flint/fmpz_vec.h>
+#include <flint/nmod_poly.h>
 
 void cb_roots_init(cb_roots_t r)
 {
@@ -207,6 +208,28 @@ static int cmp_interval(const void *pa, const void *pb)
     return fmpq_cmp(a->lo, b->lo);
 }
 
+/* 1 when p (degree >= 1) is proved squarefree: modulo a prime q not dividing its leading
+ * coefficient, gcd(p, p') = 1 (a square factor f^2 of p keeps its degree modulo q and divides
+ * both). Then p / gcd(p, p') is p itself, and the integer gcd, nearly half of an isolation of the
+ * small polynomials of a Dixon inversion, is not needed. 0: not proved (the gcd decides). */
+static int squarefree_mod_prime(const fmpz_poly_t p)
+{
+    const ulong q = UWORD(0xffffffffffffffc5); /* 2^64 - 59, the largest 64-bit prime */
+    nmod_poly_t a, da;
+    nmod_poly_init(a, q);
+    nmod_poly_init(da, q);
+    fmpz_poly_get_nmod_poly(a, p);
+    int ok = nmod_poly_degree(a) == fmpz_poly_degree(p);
+    if (ok) {
+        nmod_poly_derivative(da, a);
+        nmod_poly_gcd(da, a, da);
+        ok = nmod_poly_degree(da) == 0;
+    }
+    nmod_poly_clear(a);
+    nmod_poly_clear(da);
+    return ok;
+}
+
 cb_status cb_roots_isolate(cb_roots_t r, const fmpz_poly_t p, const fmpq_t a, const fmpq_t b,
                            cb_error *err)
 {
@@ -230,10 +253,14 @@ cb_status cb_roots_isolate(cb_roots_t r, const fmpz_poly_t p, const fmpq_t a, co
     fmpq_poly_init(lin);
     fmpq_init(len);
 
-    fmpz_poly_derivative(g, p);
-    fmpz_poly_gcd(g, p, g);
-    fmpz_poly_div(r->sqfree, p, g);
-    fmpz_poly_primitive_part(r->sqfree, r->sqfree);
+    if (squarefree_mod_prime(p)) {
+        fmpz_poly_primitive_part(r->sqfree, p);
+    } else {
+        fmpz_poly_derivative(g, p);
+        fmpz_poly_gcd(g, p, g);
+        fmpz_poly_div(r->sqfree, p, g);
+        fmpz_poly_primitive_part(r->sqfree, r->sqfree);
+    }
 
     /* u(x) = sqfree(a + (b - a) x) with its denominators cleared: [a, b] becomes [0, 1]. */
     fmpq_sub(len, b, a);
