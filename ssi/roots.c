@@ -370,7 +370,8 @@ static int newton_cell(fmpz_t c, const fmpz_poly_t p, const fmpq_t lo, const fmp
             break;
         arf_div(step, arb_midref(v), arb_midref(dv), prec, ARF_RND_NEAR);
         arf_sub(arb_midref(x), arb_midref(x), step, prec, ARF_RND_NEAR);
-        if (arf_cmp(arb_midref(x), arb_midref(a)) <= 0 || arf_cmp(arb_midref(x), arb_midref(b)) >= 0)
+        if (arf_cmp(arb_midref(x), arb_midref(a)) <= 0 ||
+            arf_cmp(arb_midref(x), arb_midref(b)) >= 0)
             break;
         if (arf_cmpabs(step, tiny) <= 0) {
             ok = 1;
@@ -457,7 +458,8 @@ void cb_roots_refine(cb_roots_t r, slong k, const fmpq_t width)
                 fmpz_set(N, last);
             int s0 = fmpz_is_zero(N) ? sign_lo : sign_at_step(cf, d, A, L, N, K, X, acc, t);
             fmpz_add_ui(c, N, 1);
-            int s1 = fmpz_cmp(N, last) == 0 ? -sign_lo : sign_at_step(cf, d, A, L, c, K, X, acc, t);
+            int s1 = fmpz_cmp(N, last) == 0 ? -sign_lo
+                                             : sign_at_step(cf, d, A, L, c, K, X, acc, t);
             if (s0 == 0 || s1 == 0) {
                 step_point(iv->lo, A, L, D, s0 == 0 ? N : c, K);
                 fmpq_set(iv->hi, iv->lo);
