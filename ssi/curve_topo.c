@@ -41,6 +41,7 @@ void cb_ctopo_clear(cb_ctopo_t T)
     flint_free(T->vertex);
     flint_free(T->edge);
     flint_free(T->component_tangential);
+    cb_bipoly_clear(T->h);
     memset(T, 0, sizeof *T);
 }
 
@@ -699,6 +700,8 @@ done:
     fmpz_poly_clear(D);
     fmpz_poly_clear(cont_rep);
     fmpz_poly_clear(cont);
+    if (st == CB_OK)
+        cb_bipoly_swap(T->h, C.h);
     curve_clear(&C);
     if (st != CB_OK)
         cb_ctopo_clear(T);

@@ -182,6 +182,8 @@ typedef struct {
                                   repeated factor of phi */
     unsigned sides_on_curve;   /* CB_CTOPO_SIDE_* bits of box sides contained in the curve */
     int has_repeated_factor;   /* phi is not squarefree */
+    cb_bipoly_t h; /* the primitive squarefree part of phi without its content in t, whose
+                      zeros the graph describes (what a tracer follows; len 0 until computed) */
 } cb_ctopo_struct;
 typedef cb_ctopo_struct cb_ctopo_t[1];
 

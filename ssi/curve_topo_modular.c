@@ -4,6 +4,7 @@
  * coefficients of the result (bound_bits), never by the residues settling, so the results
  * are exact. */
 #include "ssi/curve_topo.h"
+#include "ssi/implicit_internal.h"
 
 #include <flint/fmpz_vec.h>
 #include <flint/nmod_mat.h>
@@ -15,6 +16,8 @@
  * products of up to about 1000 terms accumulate in two limbs (at 2^62 it takes three and
  * slower determinants). */
 #define CB_MODULAR_PRIME_START (UWORD(1) << 59)
+
+static _cb_prime_seq modular_primes = {CB_MODULAR_PRIME_START, {0}};
 
 static void norm1(fmpz_t n, const fmpz_poly_t p)
 {
@@ -122,7 +125,7 @@ cb_status cb_bipoly_resultant(fmpz_poly_t r, const cb_bipoly_struct *f, const cb
     fmpz_poly_zero(r);
     ulong p = CB_MODULAR_PRIME_START;
     while (!crt_done(M, bits)) {
-        p = n_nextprime(p, 1);
+        p = _cb_prime_seq_next(&modular_primes, p);
         nmod_poly_init(a, p);
         nmod_poly_init(b, p);
         nmod_poly_init(rp, p);
@@ -216,7 +219,7 @@ void _cb_fmpz_poly_mat_det_indexed(fmpz_poly_t d, const fmpz_poly_struct *poly, 
         xs[k] = (mp_limb_t)k;
     ulong p = CB_MODULAR_PRIME_START;
     while (!crt_done(M, bits)) {
-        p = n_nextprime(p, 1);
+        p = _cb_prime_seq_next(&modular_primes, p);
         nmod_mat_init(E, size, size, p);
         nmod_poly_init(rp, p);
         for (slong k = 0; k < npoly; k++) {

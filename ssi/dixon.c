@@ -263,6 +263,33 @@ void _cb_dixon_patch_eval_nmod(ulong out[4], const ulong *cp, slong m, slong n, 
     }
 }
 
+void _cb_dixon_patch_eval_grid_nmod(ulong *out, const ulong *cp, slong m, slong n, slong du,
+                                    slong dv, nmod_t mod)
+{
+    slong len = (m + 1) * (n + 1), w = dv + 1;
+    ulong *col = flint_malloc((size_t)(m + 1) * sizeof(ulong));
+    for (int q = 0; q < 4; q++) {
+        const ulong *c = cp + q * len;
+        ulong *o = out + q * (du + 1) * w;
+        for (slong j = 0; j <= dv; j++) {
+            ulong v = nmod_set_ui((ulong)j, mod);
+            for (slong i = 0; i <= m; i++) {
+                ulong r = 0;
+                for (slong k = n; k >= 0; k--)
+                    r = nmod_add(nmod_mul(r, v, mod), c[i * (n + 1) + k], mod);
+                col[i] = r;
+            }
+            for (slong i = 0; i <= du; i++) {
+                ulong u = nmod_set_ui((ulong)i, mod), f = 0;
+                for (slong k = m; k >= 0; k--)
+                    f = nmod_add(nmod_mul(f, u, mod), col[k], mod);
+                o[i * w + j] = f;
+            }
+        }
+    }
+    flint_free(col);
+}
+
 /* ---------------------------------------------------------------- Dixon matrix ------------- */
 
 /* Dense integer polynomial in (u, v, alpha, beta) with sz[k] coefficients per variable. */

@@ -33,6 +33,12 @@ void _cb_dixon_patch_reduce(ulong *cp, const cb_dixon_patch_t P, nmod_t mod);
 void _cb_dixon_patch_eval_nmod(ulong out[4], const ulong *cp, slong m, slong n, ulong u,
                                ulong v, nmod_t mod);
 
+/* Values of the four components at every integer point (i, j), i <= du, j <= dv, mod p:
+ * out[q (du + 1)(dv + 1) + i (dv + 1) + j]. The sums over v are made once per column j, so a
+ * point costs m + 1 products instead of (m + 1)(n + 1). */
+void _cb_dixon_patch_eval_grid_nmod(ulong *out, const ulong *cp, slong m, slong n, slong du,
+                                    slong dv, nmod_t mod);
+
 /* Homogeneous value and first partials at real (u, v), scaled as P->cd: h[0] = (a,b,c,d),
  * h[1] = d/du, h[2] = d/dv. */
 void _cb_dixon_patch_eval_h(double h[3][4], const cb_dixon_patch_t P, double u, double v);

@@ -100,9 +100,26 @@ slong _cb_fmpz_vec_l1_bits(const fmpz *v, slong n)
     return b;
 }
 
+ulong _cb_prime_seq_next(_cb_prime_seq *seq, ulong prev)
+{
+    ulong last = seq->start;
+    for (int i = 0; i < CB_PRIME_SEQ_LEN; i++) {
+        ulong q = atomic_load_explicit(seq->p + i, memory_order_relaxed);
+        if (q == 0) {
+            q = n_nextprime(last, 1);
+            atomic_store_explicit(seq->p + i, q, memory_order_relaxed);
+        }
+        if (q > prev)
+            return q;
+        last = q;
+    }
+    return n_nextprime(prev, 1);
+}
+
 ulong _cb_crt_prime(ulong prev)
 {
-    return n_nextprime(prev ? prev : UWORD(1) << 62, 1);
+    static _cb_prime_seq crt = {UWORD(1) << 62, {0}};
+    return _cb_prime_seq_next(&crt, prev);
 }
 
 /* ---------------------------------------------------------------- the F type --------------- */

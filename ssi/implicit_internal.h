@@ -4,6 +4,8 @@
 #ifndef CB_SSI_IMPLICIT_INTERNAL_H
 #define CB_SSI_IMPLICIT_INTERNAL_H
 
+#include <stdatomic.h>
+
 #include <flint/nmod_vec.h>
 
 #include "ssi/implicit.h"
@@ -23,6 +25,20 @@ void _cb_nmod_newton_to_mono(ulong *c, slong stride, slong L, nmod_t mod, ulong 
 
 /* Number of bits b with sum |v_i| < 2^b. */
 slong _cb_fmpz_vec_l1_bits(const fmpz *v, slong n);
+
+/* The primes after start in increasing order, the first CB_PRIME_SEQ_LEN of them kept once
+ * found: every patch pair asks for the same few, and n_nextprime's primality tests were 4% of
+ * a small intersection. An entry depends on its index alone, so threads that fill it at once
+ * store the same value (atomically). Define one as {start} with static storage. */
+#define CB_PRIME_SEQ_LEN 64
+typedef struct {
+    ulong start;
+    _Atomic ulong p[CB_PRIME_SEQ_LEN];
+} _cb_prime_seq;
+
+/* The least prime of the sequence above prev (the first one when prev < start); beyond the
+ * kept ones, n_nextprime. */
+ulong _cb_prime_seq_next(_cb_prime_seq *seq, ulong prev);
 
 /* The prime after prev for CRT: the primes above 2^62 in increasing order, starting with the
  * first one when prev = 0 (deterministic; each is > 2^62). */

@@ -167,6 +167,37 @@ static int cmp_point(const void *a, const void *b)
     return (p->v > q->v) - (p->v < q->v);
 }
 
+/* Res_v of the two rows as polynomials a_k(u) + b_k(u) v (n = 2: bidegree (2m - 1, 1)), the
+ * 2 x 2 Sylvester determinant b_0 a_1 - a_0 b_1, without the general multivariate resultant
+ * (its setup was a quarter of an inversion). 0 when a row has no v term, whose resultant is
+ * not that determinant. */
+static int two_row_linear(fmpz_poly_t R, fmpz *const row[2], slong m)
+{
+    fmpz_poly_t a[2], b[2];
+    for (int k = 0; k < 2; k++) {
+        fmpz_poly_init(a[k]);
+        fmpz_poly_init(b[k]);
+        for (slong i = 0; i < 2 * m; i++) {
+            fmpz_poly_set_coeff_fmpz(a[k], i, row[k] + 2 * i);
+            fmpz_poly_set_coeff_fmpz(b[k], i, row[k] + 2 * i + 1);
+        }
+    }
+    int ok = !fmpz_poly_is_zero(b[0]) && !fmpz_poly_is_zero(b[1]);
+    if (ok) {
+        fmpz_poly_t t;
+        fmpz_poly_init(t);
+        fmpz_poly_mul(R, b[0], a[1]);
+        fmpz_poly_mul(t, a[0], b[1]);
+        fmpz_poly_sub(R, R, t);
+        fmpz_poly_clear(t);
+    }
+    for (int k = 0; k < 2; k++) {
+        fmpz_poly_clear(a[k]);
+        fmpz_poly_clear(b[k]);
+    }
+    return ok;
+}
+
 /* The polynomial in u of two random row combinations of M (Res_v, or the row itself when
  * n = 1); zero if unlucky or if M has rank <= 1. */
 static void row_resultant(fmpz_poly_t R, const fmpz_mat_t M, slong m, slong n, flint_rand_t st)
@@ -185,7 +216,7 @@ static void row_resultant(fmpz_poly_t R, const fmpz_mat_t M, slong m, slong n, f
     if (n == 1) {
         for (slong k = 0; k < 2 * m; k++)
             fmpz_poly_set_coeff_fmpz(R, k, row[0] + k);
-    } else {
+    } else if (n != 2 || !two_row_linear(R, row, m)) {
         fmpz_mpoly_ctx_t ctx;
         fmpz_mpoly_ctx_init(ctx, 2, ORD_LEX);
         fmpz_mpoly_t p[2], res;

@@ -38,7 +38,9 @@ cb_status cb_roots_isolate(cb_roots_t r, const fmpz_poly_t p, const fmpq_t a, co
                            cb_error *err);
 
 /* Shrinks the isolating interval of root k by bisection until hi - lo <= width (width > 0), or
- * until the root is hit exactly. */
+ * until the root is hit exactly. The intervals are those of plain bisection; the steps are
+ * integer sign tests, and from 8 steps on a Newton guess of the last cell, confirmed by the
+ * exact signs at its ends, replaces them. */
 void cb_roots_refine(cb_roots_t r, slong k, const fmpq_t width);
 
 /* Whether root k is rational, and if so its interval made that point: the simplest rational in

@@ -56,6 +56,7 @@
 #define CB_SSI_SSI_H
 
 #include "brep/analytic.h"
+#include "brep/bbox.h"
 #include "brep/context.h"
 #include "brep/nurbs.h"
 #include "brep/topo.h"
@@ -323,7 +324,8 @@ void _cb_ssi_trace_set_init(_cb_ssi_trace_set *ts);
 void _cb_ssi_trace_set_clear(_cb_ssi_trace_set *ts);
 
 /* The squarefree part of phi without its content in t, as doubles for tracing: hd[i (dt+1)
- * + j] multiplies s^i t^j, scaled so that the largest is about 1. _cb_ssi_sqf_set: CB_OK or
+ * + j] multiplies s^i t^j, scaled so that the largest is about 1. _cb_ssi_sqf_set takes it
+ * from the topology graph (cb_ctopo_struct.h), which has made it already: CB_OK or
  * CB_ERR_NOMEM (hd then NULL). */
 typedef struct {
     slong ds, dt;
@@ -332,7 +334,7 @@ typedef struct {
 
 void _cb_ssi_sqf_init(_cb_ssi_sqf *h);
 void _cb_ssi_sqf_clear(_cb_ssi_sqf *h);
-cb_status _cb_ssi_sqf_set(_cb_ssi_sqf *h, const fmpz_mpoly_t phi, const fmpz_mpoly_ctx_t ctx);
+cb_status _cb_ssi_sqf_set(_cb_ssi_sqf *h, const cb_bipoly_struct *hp);
 
 /* Sharpens the double t of the vertices of T whose certified t-box is not a point (the topology
  * stage leaves such boxes as wide as their certification needed, up to a quarter of the box):
@@ -374,6 +376,9 @@ typedef struct {
     const cb_dixon_patch_struct *p;        /* P's Bezier patch when !p_analytic */
     const cb_dixon_pencil_struct *p_pencil; /* its Dixon pencil; NULL for a planar patch */
     const cb_dixon_patch_struct *q;        /* Q's Bezier patch */
+    int p_polynomial; /* P's Bezier patch has equal weights; p_net is then the box of its
+                         control points */
+    cb_aabb p_net;
     double tol, chord, max_seg;
 } _cb_ssi_pair_geom;
 

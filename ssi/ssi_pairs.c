@@ -613,7 +613,7 @@ static cb_status topo_trace(pair_job *J, const pair_ctx *c, const _cb_ssi_pair_g
         _cb_ssi_sqf_init(&h);
         _cb_ssi_trace_set ts;
         _cb_ssi_trace_set_init(&ts);
-        st = _cb_ssi_sqf_set(&h, mp, ctx);
+        st = _cb_ssi_sqf_set(&h, T->h);
         if (st == CB_OK) {
             _cb_ssi_vertex_refine(T, &h);
             if (c->opts->keep_marks)
@@ -664,6 +664,8 @@ static void pair_run(pair_job *J, const pair_ctx *c)
         F = ps->F;
         g.p = ps->dp;
         g.p_pencil = ps->has_pencil ? ps->pencil : NULL;
+        g.p_polynomial = !patch_rational(c->ppat + J->ip);
+        cb_nurbs_surface_aabb(&g.p_net, c->ppat + J->ip);
     } else {
         g.p_analytic = 1;
         g.an = c->Ps->analytic;

@@ -5,7 +5,6 @@
  * h(s, .) in [0, 1] are simple and constant in number, so a branch is "the root of rank k"
  * and can be followed by solving h(s, t) = 0 for t at each s: no predictor can jump to a
  * neighbouring branch, which is the failure mode of plain marching near singular points. */
-#include <flint/fmpz_mpoly_factor.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,51 +25,29 @@ void _cb_ssi_sqf_clear(_cb_ssi_sqf *h)
     _cb_ssi_sqf_init(h);
 }
 
-cb_status _cb_ssi_sqf_set(_cb_ssi_sqf *h, const fmpz_mpoly_t phi, const fmpz_mpoly_ctx_t ctx)
+cb_status _cb_ssi_sqf_set(_cb_ssi_sqf *h, const cb_bipoly_struct *hp)
 {
-    fmpz_mpoly_factor_t fac;
-    fmpz_mpoly_t prod;
-    fmpz_mpoly_factor_init(fac, ctx);
-    fmpz_mpoly_init(prod, ctx);
-    fmpz_mpoly_one(prod, ctx);
-    fmpz_mpoly_factor_squarefree(fac, phi, ctx);
-    /* Factors free of t are vertical lines: traced as vertical edges, not as roots in t. */
-    for (slong i = 0; i < fac->num; i++)
-        if (fmpz_mpoly_degree_si(fac->poly + i, 1, ctx) > 0)
-            fmpz_mpoly_mul(prod, prod, fac->poly + i, ctx);
     _cb_ssi_sqf_clear(h);
-    h->ds = fmpz_mpoly_degree_si(prod, 0, ctx);
-    h->dt = fmpz_mpoly_degree_si(prod, 1, ctx);
-    if (h->ds < 0)
-        h->ds = 0;
-    if (h->dt < 0)
-        h->dt = 0;
+    h->ds = FLINT_MAX(cb_bipoly_deg_s(hp), 0);
+    h->dt = FLINT_MAX(hp->len - 1, 0);
     slong len = (h->ds + 1) * (h->dt + 1);
     h->hd = calloc((size_t)len, sizeof(double));
-    if (!h->hd) {
-        fmpz_mpoly_clear(prod, ctx);
-        fmpz_mpoly_factor_clear(fac, ctx);
+    if (!h->hd)
         return CB_ERR_NOMEM;
-    }
     slong emax = WORD_MIN;
-    slong nt = fmpz_mpoly_length(prod, ctx);
-    fmpz_t c;
-    fmpz_init(c);
-    for (slong k = 0; k < nt; k++) {
-        fmpz_mpoly_get_term_coeff_fmpz(c, prod, k, ctx);
-        emax = FLINT_MAX(emax, (slong)fmpz_bits(c));
-    }
-    for (slong k = 0; k < nt; k++) {
-        ulong e[2];
-        slong ex;
-        fmpz_mpoly_get_term_coeff_fmpz(c, prod, k, ctx);
-        fmpz_mpoly_get_term_exp_ui(e, prod, k, ctx);
-        double m = fmpz_get_d_2exp(&ex, c);
-        h->hd[e[0] * (h->dt + 1) + e[1]] = ldexp(m, (int)(ex - emax));
-    }
-    fmpz_clear(c);
-    fmpz_mpoly_clear(prod, ctx);
-    fmpz_mpoly_factor_clear(fac, ctx);
+    for (slong j = 0; j < hp->len; j++)
+        for (slong i = 0; i < fmpz_poly_length(hp->c + j); i++)
+            if (!fmpz_is_zero(hp->c[j].coeffs + i))
+                emax = FLINT_MAX(emax, (slong)fmpz_bits(hp->c[j].coeffs + i));
+    for (slong j = 0; j < hp->len; j++)
+        for (slong i = 0; i < fmpz_poly_length(hp->c + j); i++) {
+            const fmpz *c = hp->c[j].coeffs + i;
+            if (fmpz_is_zero(c))
+                continue;
+            slong ex;
+            double m = fmpz_get_d_2exp(&ex, c);
+            h->hd[i * (h->dt + 1) + j] = ldexp(m, (int)(ex - emax));
+        }
     return CB_OK;
 }
 

@@ -551,28 +551,30 @@ static void test_phi(check_rng *rng)
 
 /* ---------------------------------------------------------------- inversion ---------------- */
 
-/* Random rational bicubic graphs over [0, 1]^2 (no self-intersection); sampled points come back
+/* Random rational graphs over [0, 1]^2 (no self-intersection), bicubic, then of bidegree (2, 2)
+ * and (3, 2) (v of degree 2 takes the inversion's 2 x 2 resultant); sampled points come back
  * with their parameters, points moved off along the normal and points of the extension beyond
  * the box are not inside. */
 static void test_inversion(check_rng *rng)
 {
-    int patches = 4, samples = 8;
+    int patches = 8, samples = 8;
     cb_inversion_params par;
     cb_inversion_params_default(&par);
     double worst = 0.0;
     for (int trial = 0; trial < patches; trial++) {
+        int m = trial < 4 ? 3 : 2 + trial % 2, n = trial < 4 ? 3 : 2;
         double pts[48], w[16];
-        for (int i = 0; i < 4; i++)
-            for (int j = 0; j < 4; j++) {
-                double *p = pts + 3 * (4 * i + j);
-                p[0] = i / 3.0 + check_rng_uniform(rng, -0.05, 0.05);
-                p[1] = j / 3.0 + check_rng_uniform(rng, -0.05, 0.05);
+        for (int i = 0; i <= m; i++)
+            for (int j = 0; j <= n; j++) {
+                double *p = pts + 3 * ((n + 1) * i + j);
+                p[0] = i / (double)m + check_rng_uniform(rng, -0.05, 0.05);
+                p[1] = j / (double)n + check_rng_uniform(rng, -0.05, 0.05);
                 p[2] = check_rng_uniform(rng, -0.3, 0.3);
-                w[4 * i + j] = check_rng_uniform(rng, 0.7, 1.5);
+                w[(n + 1) * i + j] = check_rng_uniform(rng, 0.7, 1.5);
             }
         cb_nurbs_surface_t s;
         cb_nurbs_surface_init(s);
-        bezier(s, 3, 3, pts, w);
+        bezier(s, m, n, pts, w);
         cb_dixon_patch_t P;
         cb_dixon_pencil_t D;
         cb_dixon_patch_init(P);

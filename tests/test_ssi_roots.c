@@ -174,6 +174,110 @@ static void test_arb_agreement(check_rng *rng)
     }
 }
 
+/* Plain bisection with rational evaluation: what cb_roots_refine must give, interval for
+ * interval. */
+static void reference_refine(fmpq_t lo, fmpq_t hi, const fmpz_poly_t p, const fmpq_t width)
+{
+    fmpq_t w, mid, val;
+    fmpq_init(w);
+    fmpq_init(mid);
+    fmpq_init(val);
+    fmpz_poly_evaluate_fmpq(val, p, lo);
+    int sign_lo = fmpq_sgn(val);
+    fmpq_sub(w, hi, lo);
+    while (fmpq_cmp(w, width) > 0) {
+        fmpq_add(mid, lo, hi);
+        fmpq_div_2exp(mid, mid, 1);
+        fmpz_poly_evaluate_fmpq(val, p, mid);
+        int s = fmpq_sgn(val);
+        if (s == 0) {
+            fmpq_set(lo, mid);
+            fmpq_set(hi, mid);
+            break;
+        }
+        if (s == sign_lo)
+            fmpq_set(lo, mid);
+        else
+            fmpq_set(hi, mid);
+        fmpq_div_2exp(w, w, 1);
+    }
+    fmpq_clear(val);
+    fmpq_clear(mid);
+    fmpq_clear(w);
+}
+
+/* cb_roots_refine takes the steps of plain bisection (its midpoints' signs by integer Horner):
+ * the same intervals, exact hits included, on non-dyadic end points and widths, refined in one
+ * call or in several. Roots k / 2^j and k / 3 make subdivision points and non-dyadic ones. */
+static void test_refine_matches_bisection(check_rng *rng)
+{
+    int hits = 0; /* roots hit exactly by a midpoint, 8 or more steps in */
+    for (int t = 0; t < 300; t++) {
+        fmpz_poly_t p;
+        fmpz_poly_init(p);
+        fmpz_poly_set_si(p, check_rng_int(rng, 1, 9));
+        int nf = (int)check_rng_int(rng, 1, 6);
+        for (int f = 0; f < nf; f++) {
+            if (check_rng_int(rng, 0, 2) == 0) {
+                /* x^2 - c: irrational roots */
+                fmpz_poly_t q;
+                fmpz_poly_init(q);
+                fmpz_poly_set_coeff_si(q, 2, 1);
+                fmpz_poly_set_coeff_si(q, 0, -check_rng_int(rng, 2, 50));
+                fmpz_poly_mul(p, p, q);
+                fmpz_poly_clear(q);
+            } else {
+                slong den = check_rng_int(rng, 0, 1) ? 3 : (WORD(1) << check_rng_int(rng, 0, 12));
+                mul_linear(p, check_rng_int(rng, -5 * (int)den, 5 * (int)den), den,
+                           (int)check_rng_int(rng, 1, 2));
+            }
+        }
+        fmpq_t a, b, w, lo, hi;
+        fmpq_init(a);
+        fmpq_init(b);
+        fmpq_init(w);
+        fmpq_init(lo);
+        fmpq_init(hi);
+        /* Integer ends half the time, so that dyadic roots can fall on midpoints. */
+        int dyadic = t % 2;
+        fmpq_set_si(a, -check_rng_int(rng, 1, 200), dyadic ? 1 : (ulong)check_rng_int(rng, 1, 7));
+        fmpq_set_si(b, check_rng_int(rng, 1, 200), dyadic ? 1 : (ulong)check_rng_int(rng, 1, 7));
+        cb_roots_t r;
+        cb_roots_init(r);
+        cb_roots_isolate(r, p, a, b, NULL);
+        for (slong k = 0; k < r->n; k++) {
+            for (int pass = 0; pass < 2; pass++) {
+                fmpq_set_si(w, 1, (ulong)check_rng_int(rng, 1, 5));
+                fmpq_div_2exp(w, w, (ulong)check_rng_int(rng, 0, pass ? 90 : 20));
+                fmpq_set(lo, r->root[k].lo);
+                fmpq_set(hi, r->root[k].hi);
+                /* An exact hit after at least 8 steps: cb_roots_refine's guessed cell. */
+                fmpq_t steps;
+                fmpq_init(steps);
+                fmpq_sub(steps, hi, lo);
+                fmpq_div(steps, steps, w);
+                int open = fmpq_cmp_ui(steps, 256) >= 0;
+                fmpq_clear(steps);
+                reference_refine(lo, hi, r->sqfree, w);
+                cb_roots_refine(r, k, w);
+                CHECK(fmpq_equal(lo, r->root[k].lo) && fmpq_equal(hi, r->root[k].hi),
+                      "trial %d root %ld pass %d: refinement differs from bisection", t,
+                      (long)k, pass);
+                hits += open && fmpq_equal(lo, hi);
+            }
+        }
+        CHECK(well_formed(r), "trial %d: intervals not clean after refinement", t);
+        cb_roots_clear(r);
+        fmpq_clear(a);
+        fmpq_clear(b);
+        fmpq_clear(w);
+        fmpq_clear(lo);
+        fmpq_clear(hi);
+        fmpz_poly_clear(p);
+    }
+    CHECK(hits > 0, "no root was hit exactly by a bisection midpoint 8 steps in");
+}
+
 static void test_special_cases(void)
 {
     fmpz_poly_t p;
@@ -283,6 +387,7 @@ int main(void)
     check_rng rng = {2023};
     test_random_rational_roots(&rng);
     test_arb_agreement(&rng);
+    test_refine_matches_bisection(&rng);
     test_special_cases();
     flint_cleanup_master();
     return check_report("ssi_roots");
