@@ -475,7 +475,8 @@ int main(int argc, char **argv)
                 printf(" %7.2f [%6.2f %6.2f] %-4s %5d %5d %10.6g %6.2f", oc[th].t[0],
                        oc[th].t[1], oc[th].t[2],
                        !oc[th].done ? "no" : (oc[th].errors ? "err" : "yes"), oc[th].edges,
-                       oc[th].vertices, oc[th].length, o.t[th][0] / oc[th].t[0]);
+                       oc[th].vertices, oc[th].length,
+                       o.ok ? o.t[th][0] / oc[th].t[0] : NAN); /* no ratio for a stopped run */
             else if (occt)
                 printf(" the comparator failed");
             printf("\n");
