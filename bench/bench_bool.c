@@ -187,20 +187,6 @@ static cb_status cardan_case(bench_bool_case *c, int nurbs, cb_error *err)
     return CB_OK;
 }
 
-/* The hummingbirds: the shipped scenario 0 with its references and bars. */
-static cb_status birds_case(bench_bool_case *c, cb_error *err)
-{
-    cb_model_scenario s;
-    cb_status st = cb_model_scenario_load(&s, 0, err);
-    if (st)
-        return st;
-    c->a = s.a;
-    c->b = s.b;
-    memcpy(c->ref, s.ref, sizeof c->ref);
-    memcpy(c->bar, s.bar, sizeof c->bar);
-    return CB_OK;
-}
-
 /* Case k of the suite. */
 static cb_status build_case(bench_bool_case *c, int k, const char *shared, cb_error *err)
 {
@@ -213,8 +199,8 @@ static cb_status build_case(bench_bool_case *c, int k, const char *shared, cb_er
         snprintf(c->name, sizeof c->name, "cross into base%s", k > 2 * N_SIMPLE ? " NURBS" : "");
         st = cardan_case(c, k > 2 * N_SIMPLE, err);
     } else if (k == 2 * N_SIMPLE + 2) {
-        snprintf(c->name, sizeof c->name, "hummingbirds");
-        return birds_case(c, err);
+        /* The shipped scenario 0, its reference an independent estimate. */
+        return bench_bool_scenario_case(c, 0, err);
     } else {
         snprintf(c->name, sizeof c->name, "ujoint");
         return ujoint_case(c, shared, err);

@@ -36,6 +36,7 @@
 #include "brep/mass.h"
 #include "io/json.h"
 #include "io/step_write.h"
+#include "models/models.h"
 
 /* One side's figures for one case and operation. t[k]: median, min, max seconds on k + 1
  * threads (OCCT: its parallel mode, in t[0] only); phase[k]: Colibri's median seconds of the
@@ -260,6 +261,22 @@ typedef struct {
     /* Fills c (zeroed before) with case k; shared: the directory holding models/. */
     cb_status (*build)(bench_bool_case *c, int k, const char *shared, cb_error *err);
 } bench_bool_suite;
+
+/* Shipped scenario k (cb_model_scenario_load) as a case: its name, references and bars; its
+ * operands move into c. */
+static inline cb_status bench_bool_scenario_case(bench_bool_case *c, int k, cb_error *err)
+{
+    cb_model_scenario s;
+    cb_status st = cb_model_scenario_load(&s, k, err);
+    if (st)
+        return st;
+    snprintf(c->name, sizeof c->name, "%s", s.name);
+    c->a = s.a;
+    c->b = s.b;
+    memcpy(c->ref, s.ref, sizeof c->ref);
+    memcpy(c->bar, s.bar, sizeof c->bar);
+    return CB_OK;
+}
 
 static inline void bench_bool_case_clear(bench_bool_case *c)
 {
@@ -510,7 +527,7 @@ static inline int bench_bool_main(const bench_bool_suite *s, int argc, char **ar
         fprintf(stderr, "%s: cannot write %s\n", s->prog, argv[3]);
         return 1;
     }
-    char dir[] = "/tmp/colibri_bench_XXXXXX";
+    char dir[] = "/tmp/colibri_bench_XXXXXX"; /* mkdtemp's template: it replaces the Xs */
     if (occt && !mkdtemp(dir)) {
         fprintf(stderr, "%s: cannot make a temporary directory\n", s->prog);
         if (json)

@@ -650,7 +650,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_ssi_cases: cannot write %s\n", argv[3]);
         return 1;
     }
-    char dir[] = "/tmp/colibri_ssi_XXXXXX", path[64];
+    char dir[] = "/tmp/colibri_ssi_XXXXXX", path[64]; /* mkdtemp replaces the Xs */
     if (occt && !mkdtemp(dir)) {
         fprintf(stderr, "bench_ssi_cases: cannot make a temporary directory\n");
         return 1;
