@@ -12,7 +12,7 @@
  * Boolean's build time; the wall time of each process is kept in the JSON.
  *
  * Output: a table by configuration x pose x faces (counts of each verdict for both tools, median
- * times, the ratio of the median times C/O over the runs where both ended), totals per
+ * times and their ratio C/O over the runs both tools passed), totals per
  * configuration, pose and face kind, every WRONG / crash / timeout with its reason, and the
  * refusal reasons by count (numbers stripped); with --json, every run.
  *
@@ -265,7 +265,8 @@ static double median(double *v, int n)
 
 typedef struct {
     int n, c[5], o[5];
-    double ct_med, ot_med; /* medians over the runs where both tools ended */
+    int timed;             /* runs both tools passed */
+    double ct_med, ot_med; /* their median times */
 } tally;
 
 /* Tallies the runs selected by keep (by config / pose / faces; NULL: any). */
@@ -283,14 +284,15 @@ static tally tally_of(const run_result *r, int nr, const corpus_case *cases, con
         t.n++;
         t.c[r[k].c.v]++;
         t.o[r[k].o.v]++;
-        int ended_c = r[k].c.v != CORPUS_TIMEOUT && r[k].c.v != CORPUS_CRASH;
-        int ended_o = r[k].o.v != CORPUS_TIMEOUT && r[k].o.v != CORPUS_CRASH;
-        if (ended_c && ended_o && isfinite(r[k].c.o.time_s) && isfinite(r[k].o.o.time_s)) {
+        /* Times of runs both tools got right only: a quick refusal says nothing of speed. */
+        if (r[k].c.v == CORPUS_PASS && r[k].o.v == CORPUS_PASS && isfinite(r[k].c.o.time_s) &&
+            isfinite(r[k].o.o.time_s)) {
             scratch_c[m] = r[k].c.o.time_s;
             scratch_o[m] = r[k].o.o.time_s;
             m++;
         }
     }
+    t.timed = m;
     t.ct_med = median(scratch_c, m);
     t.ot_med = median(scratch_o, m);
     return t;
@@ -301,8 +303,8 @@ static void print_tally(const char *label, const tally *t, int occt)
     printf("%-40s %4d | %4d %4d %4d %4d %4d |", label, t->n, t->c[0], t->c[1], t->c[2], t->c[3],
            t->c[4]);
     if (occt)
-        printf(" %4d %4d %4d %4d %4d | %8.4f %8.4f %7.2f", t->o[0], t->o[1], t->o[2], t->o[3],
-               t->o[4], t->ct_med, t->ot_med,
+        printf(" %4d %4d %4d %4d %4d | %4d %8.4f %8.4f %6.2f", t->o[0], t->o[1], t->o[2], t->o[3],
+               t->o[4], t->timed, t->ct_med, t->ot_med,
                t->ot_med > 0 ? t->ct_med / t->ot_med : NAN);
     else
         printf(" %8.4f", t->ct_med);
@@ -471,12 +473,14 @@ int main(int argc, char **argv)
     int occt = ro.occt != NULL;
 
     printf("Corpus %s: %d cases x 3 operations, time limit %g s per run; verdicts pass / refused "
-           "/ WRONG / crash / timeout; times: medians of the Boolean's own seconds over the runs "
-           "where both tools ended, C/O their ratio\n",
+           "/ WRONG / crash / timeout; times: over the runs both tools passed (both), the medians "
+           "of the Boolean's own seconds (Colibri's report gives milliseconds) and their ratio "
+           "C/O\n",
            ro.dir, selected, ro.timeout);
     printf("%-40s %4s | %-24s |", "configuration pose faces", "runs", "Colibri pass ref WRNG crsh tmo");
     if (occt)
-        printf(" %-24s | %8s %8s %7s", "OCCT    pass ref WRNG crsh tmo", "C s", "O s", "C/O");
+        printf(" %-24s | %4s %8s %8s %6s", "OCCT    pass ref WRNG crsh tmo", "both", "C s", "O s",
+               "C/O");
     printf("\n");
     static const char *const poses[3] = {"axis", "translated", "rotated"};
     static const char *const kinds[2] = {"analytic", "nurbs"};
