@@ -263,6 +263,9 @@ static double median(double *v, int n)
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+/* Whether OCCT ran (times are then taken over the runs both tools passed). */
+static int have_occt;
+
 typedef struct {
     int n, c[5], o[5];
     int timed;             /* runs both tools passed */
@@ -285,8 +288,8 @@ static tally tally_of(const run_result *r, int nr, const corpus_case *cases, con
         t.c[r[k].c.v]++;
         t.o[r[k].o.v]++;
         /* Times of runs both tools got right only: a quick refusal says nothing of speed. */
-        if (r[k].c.v == CORPUS_PASS && r[k].o.v == CORPUS_PASS && isfinite(r[k].c.o.time_s) &&
-            isfinite(r[k].o.o.time_s)) {
+        if (r[k].c.v == CORPUS_PASS && isfinite(r[k].c.o.time_s) &&
+            (!have_occt || (r[k].o.v == CORPUS_PASS && isfinite(r[k].o.o.time_s)))) {
             scratch_c[m] = r[k].c.o.time_s;
             scratch_o[m] = r[k].o.o.time_s;
             m++;
@@ -302,12 +305,17 @@ static void print_tally(const char *label, const tally *t, int occt)
 {
     printf("%-40s %4d | %4d %4d %4d %4d %4d |", label, t->n, t->c[0], t->c[1], t->c[2], t->c[3],
            t->c[4]);
-    if (occt)
+    if (occt && t->timed)
         printf(" %4d %4d %4d %4d %4d | %4d %8.4f %8.4f %6.2f", t->o[0], t->o[1], t->o[2], t->o[3],
                t->o[4], t->timed, t->ct_med, t->ot_med,
                t->ot_med > 0 ? t->ct_med / t->ot_med : NAN);
+    else if (occt)
+        printf(" %4d %4d %4d %4d %4d | %4d %8s %8s %6s", t->o[0], t->o[1], t->o[2], t->o[3],
+               t->o[4], 0, "-", "-", "-");
+    else if (t->timed)
+        printf(" %4d %8.4f", t->timed, t->ct_med);
     else
-        printf(" %8.4f", t->ct_med);
+        printf(" %4d %8s", 0, "-");
     printf("\n");
 }
 
@@ -470,7 +478,7 @@ int main(int argc, char **argv)
     double elapsed = now_s() - t0;
     if (tty)
         fprintf(stderr, "%100s\r", "");
-    int occt = ro.occt != NULL;
+    int occt = have_occt = ro.occt != NULL;
 
     printf("Corpus %s: %d cases x 3 operations, time limit %g s per run; verdicts pass / refused "
            "/ WRONG / crash / timeout; times: over the runs both tools passed (both), the medians "
@@ -481,6 +489,8 @@ int main(int argc, char **argv)
     if (occt)
         printf(" %-24s | %4s %8s %8s %6s", "OCCT    pass ref WRNG crsh tmo", "both", "C s", "O s",
                "C/O");
+    else
+        printf(" %4s %8s", "pass", "C s");
     printf("\n");
     static const char *const poses[3] = {"axis", "translated", "rotated"};
     static const char *const kinds[2] = {"analytic", "nurbs"};
