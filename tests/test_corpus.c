@@ -17,10 +17,13 @@
  * `pass` run that does not pass, and on a run the file does not list; it only PRINTS a `known`
  * run that now passes (update the file) or whose verdict changed.
  *
- * Time limits: 20 s per run in an optimised build; under AddressSanitizer (about 3-5 times
- * slower) every case still runs, with 40 s per run, and a `pass` run that is stopped at that
- * limit is printed, not failed (it is a pass in Release; the sanitizer build is there to find
- * memory errors, which it does on the runs that end).
+ * Time limits: 40 s per run in an optimised build (the slowest run takes 5.5 s on a quiet
+ * 2-core machine, 3 times that under load). Under AddressSanitizer (2-4 times slower; the whole
+ * subset took 100 s of CPU and up to 10 minutes of wall time beside the rest of the suite on a
+ * loaded machine) a deterministic stride: every second case of cases.json (the cases are
+ * grouped by configuration, 4 each, so every configuration keeps 2), with 80 s per run; a
+ * `pass` run stopped at that limit is printed, not failed (it is a pass in Release; the
+ * sanitizer build is there to find memory errors, which it does on the runs that end).
  *
  * Usage: test_corpus [--update [FILE]] [--only SUBSTR] [--verbose]
  *   --update writes the expectations seen in this run (to FILE, default the source tree's
@@ -53,8 +56,9 @@
 #define CORPUS_ASAN 0
 #endif
 
-/* Seconds per run (one case, one operation). */
-static const double LIMIT_S = CORPUS_ASAN ? 40 : 20;
+/* Seconds per run (one case, one operation); under the sanitizer, every STRIDE-th case only. */
+static const double LIMIT_S = CORPUS_ASAN ? 80 : 40;
+static const int STRIDE = CORPUS_ASAN ? 2 : 1;
 
 static double now_s(void)
 {
@@ -150,7 +154,6 @@ typedef struct {
     int pass;          /* 1: pass; 0: known */
     char verdict[16];  /* of a known run */
     char reason[400];
-    int seen;
 } expectation;
 
 static int op_index(const char *name)
@@ -267,7 +270,7 @@ int main(int argc, char **argv)
     char slowest_id[160] = "";
     for (int i = 0; i < n; i++) {
         const corpus_case *c = cases + i;
-        if (only && !strstr(c->id, only))
+        if ((only && !strstr(c->id, only)) || (!update && i % STRIDE))
             continue;
         char pa[1300], pb[1300];
         snprintf(pa, sizeof pa, "%s/%s", dir, c->a);
@@ -314,7 +317,6 @@ int main(int argc, char **argv)
                   corpus_op_names[op], expect_path);
             if (!e)
                 continue;
-            e->seen = 1;
             if (e->pass) {
                 int asan_slow = CORPUS_ASAN && v == CORPUS_TIMEOUT;
                 if (asan_slow)
@@ -338,13 +340,18 @@ int main(int argc, char **argv)
         cb_topo_body_free(a);
         cb_topo_body_free(b);
     }
-    if (!update && !only)
-        for (int k = 0; k < nex; k++)
-            CHECK(ex[k].seen, "%s %s: in %s but not in the cases", ex[k].id,
-                  corpus_op_names[ex[k].op], expect_path);
+    /* The file and the cases agree, whichever of them ran. */
+    for (int k = 0; !update && k < nex; k++) {
+        int found = 0;
+        for (int i = 0; i < n && !found; i++)
+            found = !strcmp(cases[i].id, ex[k].id);
+        CHECK(found, "%s %s: in %s but not in the cases", ex[k].id, corpus_op_names[ex[k].op],
+              expect_path);
+    }
     printf("test_corpus: %d runs (%d cases x 3), %.1f s, limit %.0f s per run%s: pass %d, refused "
            "%d, WRONG %d, crash %d, timeout %d; slowest %.2f s (%s)\n",
-           runs, runs / 3, now_s() - t_all, LIMIT_S, CORPUS_ASAN ? " (sanitizer build)" : "",
+           runs, runs / 3, now_s() - t_all, LIMIT_S,
+           CORPUS_ASAN ? " (sanitizer build: every second case)" : "",
            counts[0], counts[1], counts[2], counts[3], counts[4], slowest, slowest_id);
     if (now_pass || changed)
         printf("test_corpus: %d known runs now pass, %d changed verdict: update the expectations "
