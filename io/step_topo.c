@@ -348,7 +348,7 @@ static cb_status face(step_file *f, const step_rec *r, int shell, int flip)
     if (!a)
         return f->err->status;
     const step_node *bounds = step_next(a), *x = step_next(bounds);
-    if ((st = step_get_list(f, r, bounds, "bounds", 1, 1 << 20)) ||
+    if ((st = step_get_list(f, r, bounds, "bounds", 0, 1 << 20)) ||
         (st = step_get_ref(f, r, x, "face_geometry", &sr)) ||
         (st = step_get_bool(f, r, step_next(x), "same_sense", &same)))
         return st;
