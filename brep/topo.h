@@ -253,17 +253,19 @@ int cb_topo_body_surface_types(const char *names[8], int counts[8], const cb_top
  * revolution or its parallel), checked to lie within tol of the surface; each edge gets tol as
  * its tolerance. A face without a loop on any other surface (an open one: a plane, a cylinder)
  * is left as it is, and validation reports it.
- * It also orders the loop of a face bounded by two seams of a doubly periodic surface, each
- * used twice (a torus written as one face with its seams, as Open CASCADE writes it): its
- * four coedges all start and end at one vertex, and the order chosen is the one whose
- * pcurves, lifted so each starts where the previous one ends, run round the domain
- * counter-clockwise when same_sense is 1, as the other routines read a loop (Open CASCADE's
- * order runs clockwise so: the volume came out negative).
+ * A torus face bounded by its two seams alone, each used twice by its one loop (as Open
+ * CASCADE writes a whole torus), gets the same boundary: its seams, vertex and coedges are
+ * rewritten in place (their curves, ranges, order and pcurves; the seams must be used by
+ * nothing else). The file's order of the four coedges, all at one vertex, chained clockwise in
+ * (u, v) for a face whose normal is the surface's (its volume came out negative), and its
+ * seams' parameter ranges and pcurves, lifted by a period, broke the Booleans' split of the
+ * face where a cut crosses a seam.
  * The new coedges get their pcurves: the exact lines of the seam's two copies in (u, v), the
  * face to the left of each coedge when same_sense is 1 (a pcurve computed by inverting a
  * B-spline seam lands a rounding error off the domain's end, which puts the seam's two copies
- * less than a period apart). Appends entities (the incidence index must be rebuilt). *closed counts the faces changed (may be NULL). Errors name the face:
- * CB_ERR_NOMEM, CB_ERR_NUMERIC when a seam found does not lie on its surface. */
+ * less than a period apart). Appends entities (the incidence index must be rebuilt).
+ * *closed counts the faces changed (may be NULL). Errors name the face: CB_ERR_NOMEM,
+ * CB_ERR_NUMERIC when a seam found does not lie on its surface. */
 cb_status cb_topo_close_faces(cb_topo_body *b, double tol, int *closed, cb_error *err);
 
 /* ---------------------------------------------------------------- parameter space ---------- */

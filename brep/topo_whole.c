@@ -119,10 +119,11 @@ static cb_status iso_curve(cb_topo_curve *c, double *t0, double *t1, const cb_to
                         cb_topo_surface_type_name(s));
 }
 
-/* Appends the edge along the iso_curve in direction `along` from vertex v0 to v1, checked to
- * lie on the surface within tol. Returns its index or -1 (err set). */
+/* The edge along the iso_curve in direction `along` from vertex v0 to v1, checked to lie on
+ * the surface within tol: edge e rewritten, or a new one when e < 0. Returns its index or -1
+ * (err set). */
 static int seam_edge(cb_topo_body *b, const cb_topo_inverter *inv, int along, int v0, int v1,
-                     double tol, cb_error *err)
+                     int e, double tol, cb_error *err)
 {
     int ci = cb_topo_body_add_curve(b);
     if (ci < 0) {
@@ -143,8 +144,9 @@ static int seam_edge(cb_topo_body *b, const cb_topo_inverter *inv, int along, in
         cb_error_set(err, CB_ERR_NUMERIC, "its seam lies %g off the surface", worst);
         return -1;
     }
-    int e = cb_topo_body_add_edge(b);
-    if (e < 0) {
+    if (e >= 0) {
+        tol = fmax(tol, b->edges[e].tol);
+    } else if ((e = cb_topo_body_add_edge(b)) < 0) {
         cb_error_set(err, CB_ERR_NOMEM, "out of memory");
         return -1;
     }
@@ -152,10 +154,12 @@ static int seam_edge(cb_topo_body *b, const cb_topo_inverter *inv, int along, in
     return e;
 }
 
-static int vertex_at(cb_topo_body *b, const cb_topo_inverter *inv, double u, double v,
+/* Vertex k moved to S(u, v), or a new one there when k < 0. */
+static int vertex_at(cb_topo_body *b, const cb_topo_inverter *inv, double u, double v, int k,
                      cb_error *err)
 {
-    int k = cb_topo_body_add_vertex(b);
+    if (k < 0)
+        k = cb_topo_body_add_vertex(b);
     if (k < 0)
         cb_error_set(err, CB_ERR_NOMEM, "out of memory");
     else
@@ -182,10 +186,46 @@ static int seam_pcurve(cb_topo_body *b, int along, double x, cb_error *err)
     return cb_frame_make(&c->frame, o, dir, NULL, err) ? -1 : k;
 }
 
-/* Gives face f, which has no loop, the seams and poles of its surface's domain. Returns 1 when
- * it did, 0 when the surface does not close (the face is left as it is), -1 on error. */
+/* Whether face f is bounded by two seams alone, each used twice by its one loop and by nothing
+ * else, through one vertex used by nothing else (a torus written as one face, as Open
+ * CASCADE writes it). Then edge[0], edge[1] and *vertex are those seams and their vertex. */
+static int seam_torus(const cb_topo_body *b, int f, int edge[2], int *vertex)
+{
+    const cb_topo_face *fa = &b->faces[f];
+    if (fa->count != 1 || b->loops[fa->first].count != 4)
+        return 0;
+    const cb_topo_coedge *c = &b->coedges[b->loops[fa->first].first];
+    edge[0] = c[0].edge;
+    edge[1] = c[1].edge;
+    if (c[2].edge != edge[0] || c[3].edge != edge[1] || edge[0] == edge[1] ||
+        c[0].sense == c[2].sense || c[1].sense == c[3].sense)
+        return 0;
+    *vertex = b->edges[edge[0]].v[0];
+    for (int k = 0; k < 2; k++)
+        if (b->edges[edge[k]].v[0] != *vertex || b->edges[edge[k]].v[1] != *vertex)
+            return 0;
+    int uses = 0;
+    for (int k = 0; k < b->n_coedges; k++)
+        uses += b->coedges[k].edge == edge[0] || b->coedges[k].edge == edge[1];
+    for (int e = 0; e < b->n_edges && uses == 4; e++)
+        if (e != edge[0] && e != edge[1] &&
+            (b->edges[e].v[0] == *vertex || b->edges[e].v[1] == *vertex))
+            uses = 0;
+    return uses == 4;
+}
+
+/* Gives face f the seams and poles of its surface's domain: f has no loop, or (torus) is
+ * bounded by the seams seam_torus finds, whose entities are then rewritten in place. Returns 1
+ * when it did, 0 when the surface does not close that way (the face is left as it is), -1 on
+ * error. */
 static int close_face(cb_topo_body *b, int f, double tol, cb_error *err)
 {
+    int old_edge[2] = {-1, -1}, old_vertex = -1, old_loop = -1;
+    if (b->faces[f].count) {
+        if (!seam_torus(b, f, old_edge, &old_vertex))
+            return 0;
+        old_loop = b->faces[f].first;
+    }
     cb_topo_inverter inv;
     if (cb_topo_inverter_init(&inv, &b->surfaces[b->faces[f].surface], tol, err))
         return -1;
@@ -197,9 +237,10 @@ static int close_face(cb_topo_body *b, int f, double tol, cb_error *err)
         /* A torus: the lines at u0 and v0 through one vertex; the loop runs round the domain
          * counter-clockwise in (u, v) (bottom, right, top, left) when the face's normal is the
          * surface's, clockwise otherwise. */
-        int v = vertex_at(b, &inv, box[0], box[2], err);
-        int su = v < 0 ? -1 : seam_edge(b, &inv, 0, v, v, tol, err); /* along u, at v0 */
-        int sv = su < 0 ? -1 : seam_edge(b, &inv, 1, v, v, tol, err); /* along v, at u0 */
+        int v = vertex_at(b, &inv, box[0], box[2], old_vertex, err);
+        /* along u at v0, along v at u0 */
+        int su = v < 0 ? -1 : seam_edge(b, &inv, 0, v, v, old_edge[0], tol, err);
+        int sv = su < 0 ? -1 : seam_edge(b, &inv, 1, v, v, old_edge[1], tol, err);
         if (sv < 0)
             goto fail;
         double u0 = box[0], u1 = u0 + inv.period[0], v0 = box[2], v1 = v0 + inv.period[1];
@@ -221,7 +262,7 @@ static int close_face(cb_topo_body *b, int f, double tol, cb_error *err)
         /* A sphere: closed in one direction, its two ends in the other collapsed to poles; the
          * seam runs from pole to pole along the other direction. */
         int closed = inv.period[0] > 0 ? 0 : inv.period[1] > 0 ? 1 : -1, along = 1 - closed;
-        if (closed < 0 || !collapses(&inv, closed, box[2 * along], tol) ||
+        if (closed < 0 || old_loop >= 0 || !collapses(&inv, closed, box[2 * along], tol) ||
             !collapses(&inv, closed, box[2 * along + 1], tol)) {
             cb_topo_inverter_clear(&inv);
             return 0;
@@ -230,9 +271,9 @@ static int close_face(cb_topo_body *b, int f, double tol, cb_error *err)
         uv0[closed] = uv1[closed] = box[2 * closed];
         uv0[along] = box[2 * along];
         uv1[along] = box[2 * along + 1];
-        int p0 = vertex_at(b, &inv, uv0[0], uv0[1], err);
-        int p1 = p0 < 0 ? -1 : vertex_at(b, &inv, uv1[0], uv1[1], err);
-        int e = p1 < 0 ? -1 : seam_edge(b, &inv, along, p0, p1, tol, err);
+        int p0 = vertex_at(b, &inv, uv0[0], uv0[1], -1, err);
+        int p1 = p0 < 0 ? -1 : vertex_at(b, &inv, uv1[0], uv1[1], -1, err);
+        int e = p1 < 0 ? -1 : seam_edge(b, &inv, along, p0, p1, -1, tol, err);
         if (e < 0)
             goto fail;
         /* The face lies left of the coedge running along the seam in (u, v) when its normal
@@ -246,14 +287,15 @@ static int close_face(cb_topo_body *b, int f, double tol, cb_error *err)
         at[1] = up_far ? near : far;
         n = 2;
     }
-    int li = cb_topo_body_add_loop(b);
+    int li = old_loop >= 0 ? old_loop : cb_topo_body_add_loop(b);
     if (li < 0) {
         cb_error_set(err, CB_ERR_NOMEM, "out of memory");
         goto fail;
     }
-    b->loops[li] = (cb_topo_loop){b->n_coedges, n, 1, f};
+    int first = old_loop >= 0 ? b->loops[li].first : b->n_coedges;
+    b->loops[li] = (cb_topo_loop){first, n, 1, f};
     for (int k = 0; k < n; k++) {
-        int c = cb_topo_body_add_coedge(b);
+        int c = old_loop >= 0 ? first + k : cb_topo_body_add_coedge(b);
         if (c < 0) {
             cb_error_set(err, CB_ERR_NOMEM, "out of memory");
             goto fail;
@@ -271,75 +313,12 @@ fail:
     return done ? 1 : -1;
 }
 
-/* The displacement in (u, v) of coedge c over its edge, the surface inverted along it. */
-static void coedge_shift(double d[2], const cb_topo_body *b, int c, const cb_topo_inverter *inv)
-{
-    const cb_topo_coedge *co = &b->coedges[c];
-    const cb_topo_edge *e = &b->edges[co->edge];
-    double uv[2], prev[2];
-    for (int k = 0; k < N_TEST; k++) {
-        double t = e->t0 + (e->t1 - e->t0) * k / (N_TEST - 1), p[3];
-        cb_topo_curve_eval(p, &b->curves[e->curve], t);
-        cb_topo_inverter_invert(uv, inv, p, k ? prev : NULL);
-        if (!k) {
-            d[0] = -uv[0];
-            d[1] = -uv[1];
-        }
-        prev[0] = uv[0];
-        prev[1] = uv[1];
-    }
-    int sign = (co->sense != 0) == (e->same_sense != 0) ? 1 : -1;
-    d[0] = sign * (d[0] + uv[0]);
-    d[1] = sign * (d[1] + uv[1]);
-}
-
-/* A face bounded by two seams of a doubly periodic surface, each used twice (a torus in one
- * face, as Open CASCADE writes it): its four coedges all start and end at one vertex, so any
- * order of them is a loop in space, and lifted in (u, v) each starting where the previous one
- * ends they run round a period parallelogram A, B, -A, -B whose orientation is that of
- * A x B. Open CASCADE places the four pcurves on the four sides without chaining them, and
- * writes an order that chains clockwise for a face whose normal is the surface's: its volume
- * came out negative. The order is made to chain counter-clockwise for same_sense 1
- * (clockwise otherwise) by swapping the second and fourth coedges. Returns 1 when it swapped. */
-static int order_torus_loop(cb_topo_body *b, int f, double tol, cb_error *err)
-{
-    const cb_topo_face *fa = &b->faces[f];
-    if (fa->count != 1 || b->loops[fa->first].count != 4)
-        return 0;
-    int c0 = b->loops[fa->first].first;
-    const cb_topo_coedge *c = &b->coedges[c0];
-    if (c[0].edge != c[2].edge || c[1].edge != c[3].edge || c[0].edge == c[1].edge ||
-        c[0].sense == c[2].sense || c[1].sense == c[3].sense)
-        return 0;
-    cb_topo_inverter inv;
-    if (cb_topo_inverter_init(&inv, &b->surfaces[fa->surface], tol, err))
-        return -1;
-    int swapped = 0;
-    if (inv.period[0] > 0 && inv.period[1] > 0) {
-        double A[2], B[2];
-        coedge_shift(A, b, c0, &inv);
-        coedge_shift(B, b, c0 + 1, &inv);
-        double area = A[0] * B[1] - A[1] * B[0];
-        /* Only a loop round both periods: each shift a whole period in one direction. */
-        double whole = 0.5 * inv.period[0] * inv.period[1];
-        if (fabs(area) > whole && (area > 0) != (fa->same_sense != 0)) {
-            cb_topo_coedge t = b->coedges[c0 + 1];
-            b->coedges[c0 + 1] = b->coedges[c0 + 3];
-            b->coedges[c0 + 3] = t;
-            swapped = 1;
-        }
-    }
-    cb_topo_inverter_clear(&inv);
-    return swapped;
-}
-
 cb_status cb_topo_close_faces(cb_topo_body *b, double tol, int *closed, cb_error *err)
 {
     int n = 0;
     cb_error local;
     for (int f = 0; f < b->n_faces; f++) {
-        int r = b->faces[f].count == 0 ? close_face(b, f, tol, &local)
-                                       : order_torus_loop(b, f, tol, &local);
+        int r = close_face(b, f, tol, &local);
         if (r < 0) {
             if (closed)
                 *closed = n;
