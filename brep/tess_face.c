@@ -94,6 +94,15 @@ static int lifted_onto(double shift[2], const double a[2], const double b[2],
     return (shift[0] != 0 || shift[1] != 0) && same_uv(c, b);
 }
 
+/* Whether a derivative of the surface vanishes at (u, v) against the other: a pole or apex. */
+static int at_pole(const cb_topo_inverter *inv, const double uv[2])
+{
+    double d[6][3];
+    cb_topo_inverter_eval_derivs(d, inv, uv[0], uv[1]);
+    double a = cb_vec3_norm(d[1]), b = cb_vec3_norm(d[2]);
+    return a <= 1e-9 * b || b <= 1e-9 * a;
+}
+
 /* Appends the samples of coedge c in traversal order, placed in (u, v). */
 static cb_status coedge_points(face_loops *L, const cb_topo_body *b, int c,
                                const cb_tess_edges *es, const cb_topo_inverter *inv, int have_prev,
@@ -143,6 +152,13 @@ static cb_status coedge_points(face_loops *L, const cb_topo_body *b, int c,
             g = prev;
         }
         cb_topo_inverter_invert(uv, inv, P, g);
+        if (pc && at_pole(inv, g) && cb_topo_inverter_spread(inv, g, uv) <= gap_tol) {
+            /* At a pole the inversion slides along the collapsed line towards a vertex a
+             * rounding error off the pole (a Boolean's, where a box edge meets the pole): the
+             * pcurve's place on the line is the one the loop runs through. */
+            uv[0] = g[0];
+            uv[1] = g[1];
+        }
         if (!(isfinite(uv[0]) && isfinite(uv[1])))
             return cb_error_set(err, CB_ERR_NUMERIC, "coedge %d: sample %d has no (u, v)", c,
                                 k);
