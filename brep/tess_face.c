@@ -516,7 +516,9 @@ static int pole_fold(const face_work *w, int t, double depth[2])
             double sp = (P[0] - pl->a[0]) * d[0] + (P[1] - pl->a[1]) * d[1];
             double sq = (Q[0] - pl->a[0]) * d[0] + (Q[1] - pl->a[1]) * d[1];
             double sm = 0.5 * (sp + sq), m[2] = {pl->a[0] + sm * d[0], pl->a[1] + sm * d[1]};
-            if (cb_tess_orient2d(m, P, Q) > 0)
+            /* (corners at one place along the line: in space on one ruling with the pole, a
+             * triangle of no area) */
+            if (cb_tess_orient2d(m, P, Q) > 0 && fabs(sp - sq) > 1e-12 * len)
                 return -1;
             depth[0] = fabs((P[0] - pl->a[0]) * d[1] - (P[1] - pl->a[1]) * d[0]);
             depth[1] = fabs((Q[0] - pl->a[0]) * d[1] - (Q[1] - pl->a[1]) * d[0]);
