@@ -264,8 +264,9 @@ int cb_topo_body_surface_types(const char *names[8], int counts[8], const cb_top
  * face to the left of each coedge when same_sense is 1 (a pcurve computed by inverting a
  * B-spline seam lands a rounding error off the domain's end, which puts the seam's two copies
  * less than a period apart). Appends entities (the incidence index must be rebuilt).
- * *closed counts the faces changed (may be NULL). Errors name the face: CB_ERR_NOMEM,
- * CB_ERR_NUMERIC when a seam found does not lie on its surface. */
+ * *closed counts the faces changed (may be NULL). A seam that cannot be made (not expected:
+ * the curve found off its surface) leaves its face as it was. Errors: CB_ERR_NOMEM naming the
+ * face. */
 cb_status cb_topo_close_faces(cb_topo_body *b, double tol, int *closed, cb_error *err);
 
 /* ---------------------------------------------------------------- parameter space ---------- */

@@ -119,11 +119,10 @@ static cb_status iso_curve(cb_topo_curve *c, double *t0, double *t1, const cb_to
                         cb_topo_surface_type_name(s));
 }
 
-/* The edge along the iso_curve in direction `along` from vertex v0 to v1, checked to lie on
- * the surface within tol: edge e rewritten, or a new one when e < 0. Returns its index or -1
- * (err set). */
-static int seam_edge(cb_topo_body *b, const cb_topo_inverter *inv, int along, int v0, int v1,
-                     int e, double tol, cb_error *err)
+/* Appends the iso_curve in direction `along`, checked to lie on the surface within tol, and
+ * its range. Returns its index or -1 (err set). */
+static int seam_curve(cb_topo_body *b, const cb_topo_inverter *inv, int along, double t[2],
+                      double tol, cb_error *err)
 {
     int ci = cb_topo_body_add_curve(b);
     if (ci < 0) {
@@ -144,13 +143,23 @@ static int seam_edge(cb_topo_body *b, const cb_topo_inverter *inv, int along, in
         cb_error_set(err, CB_ERR_NUMERIC, "its seam lies %g off the surface", worst);
         return -1;
     }
+    t[0] = t0;
+    t[1] = t1;
+    return ci;
+}
+
+/* The edge on curve ci (seam_curve, range t) from vertex v0 to v1: edge e rewritten, or a new
+ * one when e < 0. Returns its index or -1 (err set). */
+static int seam_edge(cb_topo_body *b, int ci, const double t[2], int v0, int v1, int e,
+                     double tol, cb_error *err)
+{
     if (e >= 0) {
         tol = fmax(tol, b->edges[e].tol);
     } else if ((e = cb_topo_body_add_edge(b)) < 0) {
         cb_error_set(err, CB_ERR_NOMEM, "out of memory");
         return -1;
     }
-    b->edges[e] = (cb_topo_edge){ci, t0, t1, 1, {v0, v1}, tol};
+    b->edges[e] = (cb_topo_edge){ci, t[0], t[1], 1, {v0, v1}, tol};
     return e;
 }
 
@@ -237,10 +246,13 @@ static int close_face(cb_topo_body *b, int f, double tol, cb_error *err)
         /* A torus: the lines at u0 and v0 through one vertex; the loop runs round the domain
          * counter-clockwise in (u, v) (bottom, right, top, left) when the face's normal is the
          * surface's, clockwise otherwise. */
-        int v = vertex_at(b, &inv, box[0], box[2], old_vertex, err);
-        /* along u at v0, along v at u0 */
-        int su = v < 0 ? -1 : seam_edge(b, &inv, 0, v, v, old_edge[0], tol, err);
-        int sv = su < 0 ? -1 : seam_edge(b, &inv, 1, v, v, old_edge[1], tol, err);
+        /* The curves first: a face rewritten in place changes only once both are found. */
+        double tu[2], tv[2];
+        int cu = seam_curve(b, &inv, 0, tu, tol, err); /* along u, at v0 */
+        int cv = cu < 0 ? -1 : seam_curve(b, &inv, 1, tv, tol, err); /* along v, at u0 */
+        int v = cv < 0 ? -1 : vertex_at(b, &inv, box[0], box[2], old_vertex, err);
+        int su = v < 0 ? -1 : seam_edge(b, cu, tu, v, v, old_edge[0], tol, err);
+        int sv = su < 0 ? -1 : seam_edge(b, cv, tv, v, v, old_edge[1], tol, err);
         if (sv < 0)
             goto fail;
         double u0 = box[0], u1 = u0 + inv.period[0], v0 = box[2], v1 = v0 + inv.period[1];
@@ -271,9 +283,11 @@ static int close_face(cb_topo_body *b, int f, double tol, cb_error *err)
         uv0[closed] = uv1[closed] = box[2 * closed];
         uv0[along] = box[2 * along];
         uv1[along] = box[2 * along + 1];
-        int p0 = vertex_at(b, &inv, uv0[0], uv0[1], -1, err);
+        double t[2];
+        int ci = seam_curve(b, &inv, along, t, tol, err);
+        int p0 = ci < 0 ? -1 : vertex_at(b, &inv, uv0[0], uv0[1], -1, err);
         int p1 = p0 < 0 ? -1 : vertex_at(b, &inv, uv1[0], uv1[1], -1, err);
-        int e = p1 < 0 ? -1 : seam_edge(b, &inv, along, p0, p1, -1, tol, err);
+        int e = p1 < 0 ? -1 : seam_edge(b, ci, t, p0, p1, -1, tol, err);
         if (e < 0)
             goto fail;
         /* The face lies left of the coedge running along the seam in (u, v) when its normal
@@ -319,12 +333,14 @@ cb_status cb_topo_close_faces(cb_topo_body *b, double tol, int *closed, cb_error
     cb_error local;
     for (int f = 0; f < b->n_faces; f++) {
         int r = close_face(b, f, tol, &local);
-        if (r < 0) {
+        if (r < 0 && local.status == CB_ERR_NOMEM) {
             if (closed)
                 *closed = n;
             return cb_error_set(err, local.status, "face %d: %s", f, local.msg);
         }
-        n += r;
+        /* A seam not found (not expected) leaves the face as it was, for validation to
+         * report. */
+        n += r > 0;
     }
     if (closed)
         *closed = n;
