@@ -109,7 +109,18 @@ int cb_topo_projector_starts(double (*uv)[2], int max, const cb_topo_projector *
         dist[k] = HUGE_VAL;
     }
     for (int k = 0; k < pr->nu * pr->nv; k++) {
-        double d = cb_vec3_dist(pr->grid + 3 * (size_t)k, p);
+        const double *g = pr->grid + 3 * (size_t)k;
+        double d = cb_vec3_dist(g, p);
+        if (!(d < dist[max - 1]))
+            continue;
+        /* One start per point of space: the samples of a collapsed row (a pole, where Newton
+         * cannot leave the pole as S_u vanishes) would otherwise take every place, and a point
+         * near the pole would never be searched for beyond it. */
+        int dup = 0;
+        for (int j = 0; j < max && idx[j] >= 0 && !dup; j++)
+            dup = cb_vec3_dist(g, pr->grid + 3 * (size_t)idx[j]) <= 1e-12 * d;
+        if (dup)
+            continue;
         for (int j = 0; j < max; j++)
             if (d < dist[j]) {
                 for (int m = max - 1; m > j; m--) {
