@@ -270,6 +270,22 @@ static void test_paraboloid_plane(void)
     cb_ssi_opts_default(&o);
     o.tol = 1e-7;
     o.threads = 1;
+    /* The algebraic route (the plane implicit, phi of bidegree (2, 2)): the circle's folds
+     * lie on the patch sides y = 1/2 up to the rounding of the turned plane, 2^-53 away,
+     * which the topology separates only with deep enough fibre partitions. */
+    cb_ssi_result_t r0;
+    run(r0, p, q, &o, "paraboloid x plane, algebraic");
+    CHECK(r0->status == CB_OK && r0->n_failed == 0 && r0->pairs_subdivided == 0,
+          "algebraic: %ld pairs not certified, %ld subdivided: %s", (long)r0->n_failed,
+          (long)r0->pairs_subdivided, r0->n_failed ? r0->failed[0].msg : "");
+    CHECK(r0->n_curves == 1 && r0->n_points == 0 && circle_error(r0, R, alpha, z0) < 1e-6,
+          "algebraic: curves %ld points %ld", (long)r0->n_curves, (long)r0->n_points);
+    if (r0->n_curves == 1)
+        CHECK(r0->curve[0].closed, "algebraic: the circle is not closed");
+    cb_ssi_result_clear(r0);
+    /* The subdivision route on the same pair (max_phi_degree 1 keeps it off the algebraic
+     * route). */
+    o.max_phi_degree = 1;
     cb_ssi_result_t r1, r2;
     run(r1, p, q, &o, "paraboloid x plane, 1 thr");
     CHECK(r1->status == CB_OK && r1->n_failed == 0, "%ld pairs not certified: %s",
