@@ -890,6 +890,28 @@ static void test_occt_torus(void)
         cb_topo_body_free(X[0]);
         cb_topo_body_free(X[1]);
     }
+    /* Two cylinders of radius 0.6 and length 4 whose axes cross at right angles, as Open
+     * CASCADE's NurbsConvert and STEP writer give them in a turned pose (periodic nets of three
+     * 120-degree arcs, 13 digits): the Steinmetz solid, 16 r^3 / 3, with its two tangent
+     * crossing nodes. */
+    cb_topo_body *Y[2] = {NULL, NULL};
+    const char *cyl[2] = {"occt_nurbs_cyl_z.step", "occt_nurbs_cyl_x.step"};
+    for (int k = 0; k < 2; k++) {
+        char path[1024];
+        cb_error err;
+        snprintf(path, sizeof path, "%s/tests/data/%s", src ? src : ".", cyl[k]);
+        CHECK(cb_step_read(Y + k, path, &err) == CB_OK, "%s: %s", path, err.msg);
+    }
+    if (Y[0] && Y[1]) {
+        const double rc = 0.6, v_cyl = PI * rc * rc * 4, v_st = 16 * rc * rc * rc / 3;
+        const char *name = "OCCT NURBS Steinmetz";
+        check_op(name, CB_BOOL_UNION, Y[0], Y[1], 2 * v_cyl - v_st, 1e-6, NULL);
+        check_op(name, CB_BOOL_INTERSECTION, Y[0], Y[1], v_st, 1e-6, NULL);
+        touching_points = 2; /* the two halves of A touch at the nodes */
+        check_op(name, CB_BOOL_DIFFERENCE, Y[0], Y[1], v_cyl - v_st, 1e-6, NULL);
+    }
+    cb_topo_body_free(Y[0]);
+    cb_topo_body_free(Y[1]);
 }
 
 int main(int argc, char **argv)
