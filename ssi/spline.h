@@ -131,6 +131,11 @@ void _cb_ssi_bez_eval_iv(_cb_iv X[3], _cb_iv Xu[3], _cb_iv Xv[3], const _cb_ssi_
  * halves' control points. */
 void _cb_ssi_split_iv(_cb_iv *lo, _cb_iv *hi, const _cb_iv *c, int d, int stride, int dim);
 
+/* The same split at a parameter t in [0, 1] known as an interval (the control points of the
+ * pieces over [0, t] and [t, 1] enclosed for every t in it). */
+void _cb_ssi_split_iv_at(_cb_iv *lo, _cb_iv *hi, const _cb_iv *c, int d, int stride, int dim,
+                         _cb_iv t);
+
 /* x / w for an interval w > 0 (outward rounding). */
 _cb_iv _cb_iv_div(_cb_iv x, _cb_iv w);
 
@@ -180,12 +185,26 @@ typedef struct {
     int many_branches;         /* uncertified ones with more than one branch */
     int march_failed;          /* branches whose marching did not converge (reported uncertified) */
     int nomem;                 /* 1: memory ran out, the pair stopped (reported uncertified) */
+    /* Regions resolved within the tolerance: clusters of sub-pairs that no direction or root
+     * test could certify, each sub-patch of 3D size at most tol / 4, whose union has a 3D
+     * diameter at most tol (near-tangent nodes, contact points; tolerance-certificates.md
+     * section 5). Each became one point: the branch ends in it were joined there (a node), or,
+     * with none, an isolated contact point. */
+    int within_tol;            /* such regions */
+    int within_tol_nodes;      /* of them with branch ends (nodes) */
+    double wt_box[6];          /* 3D box of the first such region: lo[3], hi[3] */
+    double wt_width;           /* largest 3D diameter of such a region */
 } _cb_ssi_spline_stats;
 
 /* The intersection of the Bezier patches P and Q, polynomial or rational (certified as above):
  * one piece per certified branch appended to out, points refined onto both patches
  * (|P - Q| <= tol / 100), uv / st in the patches' domains (P->dom, Q->dom), chords within chord
- * and max_seg. Deterministic (serial inside). */
+ * and max_seg. Sub-pairs are split until certified or until both sub-patches are within tol / 4
+ * in 3D (or at the parameter floor, or over the budget); the unresolved ones at the 3D floor are
+ * clustered (boxes meeting), and a cluster of 3D diameter at most tol is resolved within the
+ * tolerance: its branch ends are moved onto one point of both patches in it (a node), or with
+ * no branch end it gives one isolated contact point (stats->within_tol); a larger cluster is
+ * uncertified. Deterministic (serial inside). */
 void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *stats, const _cb_ssi_bez *P,
                          const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o);
 

@@ -103,7 +103,8 @@ typedef struct {
                              (about 6 s) */
     cb_ctopo_opts topo;   /* passed to cb_ctopo_compute; defaults of cb_ctopo_opts_default */
     int spline_max_depth; /* subdivision route: sub-patches are not split below parameter
-                             width 2^-spline_max_depth of their Bezier patch; default 20 */
+                             width 2^-spline_max_depth of their Bezier patch; default 30 (the
+                             3D floor, tol / 8, usually stops them first) */
     slong spline_max_subpairs; /* subdivision route: sub-patch pairs examined per Bezier
                                   patch pair before the rest is reported uncertified;
                                   default 20000 */

@@ -35,7 +35,7 @@ void cb_ssi_opts_default(cb_ssi_opts *o)
     o->threads = 0;
     o->max_phi_degree = 12;
     cb_ctopo_opts_default(&o->topo);
-    o->spline_max_depth = 20;
+    o->spline_max_depth = 30;
     o->spline_max_subpairs = 20000;
     o->recognise = 1;
     o->cancel = NULL;
