@@ -185,27 +185,57 @@ typedef struct {
     int many_branches;         /* uncertified ones with more than one branch */
     int march_failed;          /* branches whose marching did not converge (reported uncertified) */
     int nomem;                 /* 1: memory ran out, the pair stopped (reported uncertified) */
-    /* Regions resolved within the tolerance: clusters of sub-pairs that no direction or root
-     * test could certify, each sub-patch of 3D size at most tol / 4, whose union has a 3D
-     * diameter at most tol (near-tangent nodes, contact points; tolerance-certificates.md
-     * section 5). Each became one point: the branch ends in it were joined there (a node), or,
-     * with none, an isolated contact point. */
-    int within_tol;            /* such regions */
-    int within_tol_nodes;      /* of them with branch ends (nodes) */
-    double wt_box[6];          /* 3D box of the first such region: lo[3], hi[3] */
-    double wt_width;           /* largest 3D diameter of such a region */
+    long unresolved;           /* sub-pairs left for _cb_ssi_tiny_resolve (see below) */
 } _cb_ssi_spline_stats;
+
+/* A sub-pair the tests could not certify, left at the 3D floor (both sub-patches within tol / 8)
+ * or within 8 tol and proved within tol of each other (slab: one slab of width <= tol holds
+ * both control nets, each a graph over its plane). Boxes in 3D and in the patches' domains; a
+ * candidate point X of both patches in it (P's middle and its foot on Q), with its parameters;
+ * job: the caller's index of the patch pair. */
+typedef struct {
+    double lo[3], hi[3];
+    double bp[4], bq[4];
+    double X[3], uv[2], st[2];
+    double gap; /* distance between the two surface points X is the middle of */
+    int reason, slab, job, root;
+    int blocker; /* not a tangent region's member but a sub-pair left uncertified (at the
+                    parameter floor or over the budget): a region meeting it stays open */
+} _cb_ssi_tiny;
+
+typedef struct {
+    slong n, alloc;
+    _cb_ssi_tiny *t;
+} _cb_ssi_tiny_set;
+
+void _cb_ssi_tiny_set_init(_cb_ssi_tiny_set *ts);
+void _cb_ssi_tiny_set_clear(_cb_ssi_tiny_set *ts);
 
 /* The intersection of the Bezier patches P and Q, polynomial or rational (certified as above):
  * one piece per certified branch appended to out, points refined onto both patches
  * (|P - Q| <= tol / 100), uv / st in the patches' domains (P->dom, Q->dom), chords within chord
- * and max_seg. Sub-pairs are split until certified or until both sub-patches are within tol / 4
- * in 3D (or at the parameter floor, or over the budget); the unresolved ones at the 3D floor are
- * clustered (boxes meeting), and a cluster of 3D diameter at most tol is resolved within the
- * tolerance: its branch ends are moved onto one point of both patches in it (a node), or with
- * no branch end it gives one isolated contact point (stats->within_tol); a larger cluster is
+ * and max_seg. Sub-pairs are split until certified, or until both sub-patches are within tol / 8
+ * in 3D, or within 8 tol and proved within tol of each other, which are appended to tiny (with
+ * job) for _cb_ssi_tiny_resolve; those at the parameter floor or over the budget are
  * uncertified. Deterministic (serial inside). */
 void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *stats, const _cb_ssi_bez *P,
-                         const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o);
+                         const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o,
+                         _cb_ssi_tiny_set *tiny, int job);
+
+/* Within the tolerance (tolerance-certificates.md sections 2 and 5), for the unresolved
+ * sub-pairs of all patch pairs of two surfaces (tiny[k]: those of pair k, pieces sets[k]):
+ * they are clustered (3D boxes meeting within tol / 10), and a cluster that meets no sub-pair
+ * left uncertified (blocker) and has a 3D diameter at most tol, or at most 100 tol with every
+ * member proved within tol, is resolved: the piece ends
+ * (of every pair) in its box grown by tol move onto one point of both surfaces in it (a member's
+ * candidate whose surface points are within tol; with none the cluster is not resolved),
+ * pieces lying wholly in it are dropped, and with no end it gives one isolated contact point
+ * (appended to the set of its first member's pair). A larger cluster is not resolved: bad[k]
+ * is set for each pair k with a member in it, and unres[k] counts them. Per resolved region:
+ * *regions, *nodes (of them with branch ends), *width (largest diameter). -1 when out of
+ * memory. */
+int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tiny_set *tiny,
+                         char *bad, long *unres, double tol, long *regions, long *nodes,
+                         double *width);
 
 #endif

@@ -853,15 +853,91 @@ static double width(const node *d)
 
 /* ---------------------------------------------------------------- within the tolerance ---- */
 
-/* A sub-pair left unresolved at the 3D floor: both sub-patches' boxes (3D and parameters). */
-typedef struct {
-    double lo[3], hi[3];
-    double bp[4], bq[4];
-    int reason, root;
-    int slab; /* the two sub-patches proved within tol of each other (slab_within) */
-} tiny;
+void _cb_ssi_tiny_set_init(_cb_ssi_tiny_set *ts) { memset(ts, 0, sizeof *ts); }
 
-static int tiny_find(tiny *t, int k)
+void _cb_ssi_tiny_set_clear(_cb_ssi_tiny_set *ts)
+{
+    free(ts->t);
+    memset(ts, 0, sizeof *ts);
+}
+
+/* The point of patch Q nearest X, from the local parameters st (updated; Gauss-Newton clamped
+ * to [0, 1]^2, each step kept only when it gets closer): Y = Q(st). */
+static void foot_on(double st[2], double Y[3], const _cb_ssi_bez *Q, const double X[3])
+{
+    double Qs[3], Qt[3];
+    _cb_ssi_bez_eval(Y, Qs, Qt, Q, st[0], st[1]);
+    double best = (Y[0] - X[0]) * (Y[0] - X[0]) + (Y[1] - X[1]) * (Y[1] - X[1]) +
+                  (Y[2] - X[2]) * (Y[2] - X[2]);
+    for (int it = 0; it < 20 && best > 0; it++) {
+        double a = dot3(Qs, Qs), b = dot3(Qs, Qt), c = dot3(Qt, Qt), r[3];
+        for (int q = 0; q < 3; q++)
+            r[q] = X[q] - Y[q];
+        double p = dot3(Qs, r), q2 = dot3(Qt, r), det = a * c - b * b;
+        if (!(det > 0))
+            break;
+        double n[2] = {fmin(1, fmax(0, st[0] + (c * p - b * q2) / det)),
+                       fmin(1, fmax(0, st[1] + (a * q2 - b * p) / det))};
+        double Z[3], Zs[3], Zt[3];
+        _cb_ssi_bez_eval(Z, Zs, Zt, Q, n[0], n[1]);
+        double e = (Z[0] - X[0]) * (Z[0] - X[0]) + (Z[1] - X[1]) * (Z[1] - X[1]) +
+                   (Z[2] - X[2]) * (Z[2] - X[2]);
+        if (!(e < best))
+            break;
+        best = e;
+        memcpy(st, n, sizeof n);
+        memcpy(Y, Z, sizeof Z);
+        memcpy(Qs, Zs, sizeof Zs);
+        memcpy(Qt, Zt, sizeof Zt);
+    }
+}
+
+/* Appends the unresolved sub-pair (a, b) of pair job to ts; -1 when out of memory. */
+static int tiny_add(_cb_ssi_tiny_set *ts, const node *a, const node *b, const _cb_ssi_bez *P,
+                    const _cb_ssi_bez *Q, int reason, int slab, int job)
+{
+    if (ts->n == ts->alloc) {
+        slong na = ts->alloc ? 2 * ts->alloc : 64;
+        _cb_ssi_tiny *q = realloc(ts->t, (size_t)na * sizeof *q);
+        if (!q)
+            return -1;
+        ts->t = q;
+        ts->alloc = na;
+    }
+    _cb_ssi_tiny *t = ts->t + ts->n++;
+    for (int q = 0; q < 3; q++) {
+        t->lo[q] = fmin(a->lo[q], b->lo[q]);
+        t->hi[q] = fmax(a->hi[q], b->hi[q]);
+    }
+    const double *dp = P->dom, *dq = Q->dom;
+    for (int k = 0; k < 2; k++) {
+        t->bp[2 * k] = dp[2 * k] + a->box[2 * k] * (dp[2 * k + 1] - dp[2 * k]);
+        t->bp[2 * k + 1] = dp[2 * k] + a->box[2 * k + 1] * (dp[2 * k + 1] - dp[2 * k]);
+        t->bq[2 * k] = dq[2 * k] + b->box[2 * k] * (dq[2 * k + 1] - dq[2 * k]);
+        t->bq[2 * k + 1] = dq[2 * k] + b->box[2 * k + 1] * (dq[2 * k + 1] - dq[2 * k]);
+    }
+    /* The candidate point: P's middle and its foot on Q, each on its patch. */
+    double x[4] = {0.5 * (a->box[0] + a->box[1]), 0.5 * (a->box[2] + a->box[3]),
+                   0.5 * (b->box[0] + b->box[1]), 0.5 * (b->box[2] + b->box[3])};
+    double A[3], B[3], d1[3], d2[3];
+    _cb_ssi_bez_eval(A, d1, d2, P, x[0], x[1]);
+    foot_on(x + 2, B, Q, A);
+    for (int q = 0; q < 3; q++)
+        t->X[q] = 0.5 * (A[q] + B[q]);
+    t->gap = sqrt((A[0] - B[0]) * (A[0] - B[0]) + (A[1] - B[1]) * (A[1] - B[1]) +
+                  (A[2] - B[2]) * (A[2] - B[2]));
+    t->uv[0] = dp[0] + x[0] * (dp[1] - dp[0]);
+    t->uv[1] = dp[2] + x[1] * (dp[3] - dp[2]);
+    t->st[0] = dq[0] + x[2] * (dq[1] - dq[0]);
+    t->st[1] = dq[2] + x[3] * (dq[3] - dq[2]);
+    t->reason = reason;
+    t->slab = slab;
+    t->blocker = 0;
+    t->job = job;
+    return 0;
+}
+
+static int tiny_find(_cb_ssi_tiny *t, int k)
 {
     while (t[k].root != k) {
         t[k].root = t[t[k].root].root;
@@ -870,7 +946,7 @@ static int tiny_find(tiny *t, int k)
     return k;
 }
 
-static int boxes_meet(const tiny *a, const tiny *b, double slack)
+static int boxes_meet(const _cb_ssi_tiny *a, const _cb_ssi_tiny *b, double slack)
 {
     for (int q = 0; q < 3; q++)
         if (a->hi[q] + slack < b->lo[q] || b->hi[q] + slack < a->lo[q])
@@ -886,58 +962,82 @@ static int in_box(const double X[3], const double lo[3], const double hi[3], dou
     return 1;
 }
 
-/* Resolves the clusters of unresolved sub-pairs t[0 .. nt) (see _cb_ssi_spline_pair): those of
- * 3D diameter at most tol become one point each (branch ends of the pieces from first on moved
- * onto it, or an isolated contact point); the others are counted uncertified. -1 when out of
- * memory. */
-static int resolve_tiny(_cb_ssi_piece_set *out, slong first, _cb_ssi_spline_stats *st, tiny *t,
-                        int nt, const _cb_ssi_bez *P, const _cb_ssi_bez *Q, double tol)
+/* By low x, then by the order of arrival (root holds it while sorting). */
+static int cmp_tiny(const void *x, const void *y)
 {
-    for (int i = 0; i < nt; i++)
-        t[i].root = i;
-    /* Boxes that meet (within a tenth of the tolerance) are one cluster. */
-    for (int i = 0; i < nt; i++)
-        for (int j = i + 1; j < nt; j++)
+    const _cb_ssi_tiny *a = x, *b = y;
+    if (a->lo[0] != b->lo[0])
+        return a->lo[0] < b->lo[0] ? -1 : 1;
+    return (a->root > b->root) - (a->root < b->root);
+}
+
+int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tiny_set *tiny,
+                         char *bad, long *unres, double tol, long *regions, long *nodes,
+                         double *width)
+{
+    slong nt = 0;
+    for (slong k = 0; k < nsets; k++)
+        nt += tiny[k].n;
+    if (nt == 0)
+        return 0;
+    _cb_ssi_tiny *t = malloc((size_t)nt * sizeof *t);
+    if (!t)
+        return -1;
+    nt = 0;
+    for (slong k = 0; k < nsets; k++)
+        for (slong i = 0; i < tiny[k].n; i++) {
+            t[nt] = tiny[k].t[i];
+            t[nt].root = (int)nt;
+            nt++;
+        }
+    /* Boxes that meet (within a tenth of the tolerance) are one cluster: sorted by their low x
+     * (ties by the order they came in, so the result does not depend on threads), each is
+     * compared with those after it that start before it ends in x. */
+    for (slong i = 0; i < nt; i++)
+        t[i].root = (int)i;
+    qsort(t, (size_t)nt, sizeof *t, cmp_tiny);
+    for (slong i = 0; i < nt; i++)
+        t[i].root = (int)i;
+    for (slong i = 0; i < nt; i++)
+        for (slong j = i + 1; j < nt && t[j].lo[0] <= t[i].hi[0] + 0.1 * tol; j++)
             if (boxes_meet(t + i, t + j, 0.1 * tol)) {
-                int a = tiny_find(t, i), b = tiny_find(t, j);
+                int a = tiny_find(t, (int)i), b = tiny_find(t, (int)j);
                 if (a != b)
                     t[a > b ? a : b].root = a < b ? a : b;
             }
-    for (int c = 0; c < nt; c++) {
-        if (tiny_find(t, c) != c)
+    int st = 0;
+    for (slong c = 0; c < nt && st == 0; c++) {
+        if (tiny_find(t, (int)c) != c)
             continue;
         double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-        for (int i = c; i < nt; i++)
-            if (tiny_find(t, i) == c)
+        int all_slab = 1, blocked = 0;
+        for (slong i = c; i < nt; i++)
+            if (tiny_find(t, (int)i) == c) {
+                all_slab = all_slab && t[i].slab;
+                blocked = blocked || t[i].blocker;
                 for (int q = 0; q < 3; q++) {
                     lo[q] = fmin(lo[q], t[i].lo[q]);
                     hi[q] = fmax(hi[q], t[i].hi[q]);
                 }
+            }
         double diam = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                            (hi[2] - lo[2]) * (hi[2] - lo[2]));
-        int all_slab = 1;
-        for (int i = c; i < nt; i++)
-            if (tiny_find(t, i) == c)
-                all_slab = all_slab && t[i].slab;
-        if (!(diam <= tol || (all_slab && diam <= WT_MAX_TOL * tol))) {
-            for (int i = c; i < nt; i++)
-                if (tiny_find(t, i) == c) {
-                    add_box(st->box_p, t[i].bp, st->uncertified == 0);
-                    add_box(st->box_q, t[i].bq, st->uncertified == 0);
-                    st->uncertified++;
-                    st->no_direction += t[i].reason == 1;
-                    st->ambiguous_roots += t[i].reason == 2;
-                    st->many_branches += t[i].reason == 3;
+        if (blocked || !(diam <= tol || (all_slab && diam <= WT_MAX_TOL * tol))) {
+            for (slong i = c; i < nt; i++)
+                if (tiny_find(t, (int)i) == c && !t[i].blocker) {
+                    bad[t[i].job] = 1;
+                    unres[t[i].job]++;
                 }
             continue;
         }
-        /* The point: the middle of the member sub-pair nearest the cluster's centre, on each
-         * patch; both lie in the cluster's box, so within diam <= tol of each other. */
+        /* The point: the candidate of the member nearest the cluster's centre among those
+         * whose two surface points are within tol (so the point is within tol / 2 of both);
+         * with none, the region is not resolved. */
         double cen[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
-        int best = c;
+        slong best = -1;
         double bd = HUGE_VAL;
-        for (int i = c; i < nt; i++) {
-            if (tiny_find(t, i) != c)
+        for (slong i = c; i < nt; i++) {
+            if (tiny_find(t, (int)i) != c || !(t[i].gap <= tol))
                 continue;
             double m[3] = {0.5 * (t[i].lo[0] + t[i].hi[0]), 0.5 * (t[i].lo[1] + t[i].hi[1]),
                            0.5 * (t[i].lo[2] + t[i].hi[2])};
@@ -948,69 +1048,67 @@ static int resolve_tiny(_cb_ssi_piece_set *out, slong first, _cb_ssi_spline_stat
                 best = i;
             }
         }
-        double x[4] = {0.5 * (t[best].bp[0] + t[best].bp[1]), 0.5 * (t[best].bp[2] + t[best].bp[3]),
-                       0.5 * (t[best].bq[0] + t[best].bq[1]), 0.5 * (t[best].bq[2] + t[best].bq[3])};
-        double A[3], B[3], d1[3], d2[3], X[3];
-        _cb_ssi_bez_eval(A, d1, d2, P, x[0], x[1]);
-        _cb_ssi_bez_eval(B, d1, d2, Q, x[2], x[3]);
-        for (int q = 0; q < 3; q++)
-            X[q] = 0.5 * (A[q] + B[q]);
+        if (best < 0) {
+            for (slong i = c; i < nt; i++)
+                if (tiny_find(t, (int)i) == c && !t[i].blocker) {
+                    bad[t[i].job] = 1;
+                    unres[t[i].job]++;
+                }
+            continue;
+        }
         _cb_ssi_pq node_pq;
         memset(&node_pq, 0, sizeof node_pq);
-        node_pq.uv[0] = P->dom[0] + x[0] * (P->dom[1] - P->dom[0]);
-        node_pq.uv[1] = P->dom[2] + x[1] * (P->dom[3] - P->dom[2]);
-        node_pq.st[0] = Q->dom[0] + x[2] * (Q->dom[1] - Q->dom[0]);
-        node_pq.st[1] = Q->dom[2] + x[3] * (Q->dom[3] - Q->dom[2]);
+        memcpy(node_pq.uv, t[best].uv, sizeof node_pq.uv);
+        memcpy(node_pq.st, t[best].st, sizeof node_pq.st);
+        const double *X = t[best].X;
         /* Branch ends in the region (grown by the tolerance) move onto the point; a piece
          * lying wholly in it (between two of its sub-pairs) is dropped. */
         int ends = 0;
-        for (slong k = first; k < out->n; k++) {
-            _cb_ssi_piece *pc = out->p + k;
-            if (pc->isolated || pc->n < 2)
-                continue;
-            int inside = 1;
-            for (slong i = 0; i < pc->n && inside; i++)
-                inside = in_box(pc->xyz + 3 * i, lo, hi, tol);
-            if (inside) {
-                _cb_ssi_piece_clear(pc);
-                memmove(pc, pc + 1, (size_t)(out->n - k - 1) * sizeof *pc);
-                out->n--;
-                k--;
-                continue;
-            }
-            for (int e = 0; e < 2; e++) {
-                slong i = e ? pc->n - 1 : 0;
-                if (!in_box(pc->xyz + 3 * i, lo, hi, tol))
+        for (slong k = 0; k < nsets; k++) {
+            _cb_ssi_piece_set *out = sets + k;
+            for (slong q = 0; q < out->n; q++) {
+                _cb_ssi_piece *pc = out->p + q;
+                if (pc->isolated || pc->n < 2)
                     continue;
-                pc->pt[i] = node_pq;
-                memcpy(pc->xyz + 3 * i, X, sizeof X);
-                ends++;
+                int inside = 1;
+                for (slong i = 0; i < pc->n && inside; i++)
+                    inside = in_box(pc->xyz + 3 * i, lo, hi, tol);
+                if (inside) {
+                    _cb_ssi_piece_clear(pc);
+                    memmove(pc, pc + 1, (size_t)(out->n - q - 1) * sizeof *pc);
+                    out->n--;
+                    q--;
+                    continue;
+                }
+                for (int e = 0; e < 2; e++) {
+                    slong i = e ? pc->n - 1 : 0;
+                    if (!in_box(pc->xyz + 3 * i, lo, hi, tol))
+                        continue;
+                    pc->pt[i] = node_pq;
+                    memcpy(pc->xyz + 3 * i, X, 3 * sizeof(double));
+                    ends++;
+                }
             }
         }
         if (ends == 0) {
-            _cb_ssi_piece *pc = _cb_ssi_piece_set_add(out);
+            _cb_ssi_piece *pc = _cb_ssi_piece_set_add(sets + t[c].job);
             if (!pc || _cb_ssi_piece_push(pc, &node_pq, X) != CB_OK)
-                return -1;
-            pc->isolated = pc->tangential = 1;
+                st = -1;
+            else
+                pc->isolated = pc->tangential = 1;
         }
-        if (st->within_tol == 0)
-            for (int q = 0; q < 3; q++) {
-                st->wt_box[q] = lo[q];
-                st->wt_box[3 + q] = hi[q];
-            }
-        st->within_tol++;
-        st->within_tol_nodes += ends > 0;
-        st->wt_width = fmax(st->wt_width, diam);
+        (*regions)++;
+        *nodes += ends > 0;
+        *width = fmax(*width, diam);
     }
-    return 0;
+    free(t);
+    return st;
 }
 
 void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const _cb_ssi_bez *P,
-                         const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o)
+                         const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o,
+                         _cb_ssi_tiny_set *tiny, int job)
 {
-    slong first = out->n;
-    int nt = 0, at = 0;
-    tiny *tl = NULL;
     memset(st, 0, sizeof(*st));
     tree TP, TQ;
     int okp = tree_init(&TP, P, SPLIT_LO, SPLIT_HI) == 0,
@@ -1037,6 +1135,11 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
         int ia = stack[sp][0], ib = stack[sp][1];
         if (st->subpairs >= o->max_subpairs) {
             uncertified(st, TP.nd + ia, TQ.nd + ib);
+            /* A region left open here: a tangent region meeting it is not resolved. */
+            if (tiny_add(tiny, TP.nd + ia, TQ.nd + ib, P, Q, 0, 0, job))
+                st->nomem = 1;
+            else
+                tiny->t[tiny->n - 1].blocker = 1;
             continue;
         }
         st->subpairs++;
@@ -1097,26 +1200,12 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
         int small = a->size <= STOP_TOL * o->tol && b->size <= STOP_TOL * o->tol;
         int slab = small && slab_within(a, b, TP.nn, TQ.nn, o->tol);
         if ((a->size <= TINY_TOL * o->tol && b->size <= TINY_TOL * o->tol) || slab) {
-            if (nt == at) {
-                int na = at ? 2 * at : 64;
-                tiny *q = realloc(tl, (size_t)na * sizeof(tiny));
-                if (!q) {
-                    st->nomem = 1;
-                    uncertified(st, a, b);
-                    break;
-                }
-                tl = q;
-                at = na;
+            if (tiny_add(tiny, a, b, P, Q, reason, slab, job)) {
+                st->nomem = 1;
+                uncertified(st, a, b);
+                break;
             }
-            tiny *t = tl + nt++;
-            for (int q = 0; q < 3; q++) {
-                t->lo[q] = fmin(a->lo[q], b->lo[q]);
-                t->hi[q] = fmax(a->hi[q], b->hi[q]);
-            }
-            memcpy(t->bp, a->box, sizeof t->bp);
-            memcpy(t->bq, b->box, sizeof t->bq);
-            t->reason = reason;
-            t->slab = slab;
+            st->unresolved++;
             continue;
         }
         /* Split the larger sub-patch that is above the floor. */
@@ -1126,6 +1215,10 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
             st->ambiguous_roots += reason == 2;
             st->many_branches += reason == 3;
             uncertified(st, a, b);
+            if (tiny_add(tiny, a, b, P, Q, reason, 0, job))
+                st->nomem = 1;
+            else
+                tiny->t[tiny->n - 1].blocker = 1;
             continue;
         }
         int split_a = can_a && (!can_b || a->size >= b->size);
@@ -1153,7 +1246,4 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
     free(stack);
     tree_clear(&TP);
     tree_clear(&TQ);
-    if (!st->nomem && nt > 0 && resolve_tiny(out, first, st, tl, nt, P, Q, o->tol) < 0)
-        st->nomem = 1;
-    free(tl);
 }

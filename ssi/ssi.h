@@ -235,6 +235,13 @@ typedef struct {
                                in pairs_certified too */
     slong pairs_closed_form; /* analytic/analytic pairs decided by a closed form (counted in
                                 pairs_certified; the others took the general route) */
+    slong regions_within_tol; /* tangent regions the subdivision route resolved within the
+                                 tolerance (a cluster of sub-pairs of 3D diameter <= tol, or
+                                 <= 100 tol where the surfaces are proved within tol of each
+                                 other): each became one point (_cb_ssi_tiny_resolve) */
+    slong nodes_within_tol;   /* of them with branch ends joined there (near-tangent nodes);
+                                 the others are isolated contact points */
+    double width_within_tol;  /* largest 3D diameter of such a region */
     double tol;             /* tolerance used */
     double max_dist_a, max_dist_b; /* largest distance of an output point to A and to B */
     double time_topo, time_trace;  /* seconds summed over patch pairs (all threads) */

@@ -941,6 +941,15 @@ static void test_tangent_regions(void)
                 CHECK(0, "%s seed %u: %ld curves, expected 4", names[c], seed,
                       (long)r->n_curves);
             }
+            if (c < 2)
+                CHECK(r->regions_within_tol == 1 && r->nodes_within_tol == (c == 0) &&
+                          r->width_within_tol <= 100 * o.tol,
+                      "%s seed %u: %ld regions within tol, %ld nodes, width %g", names[c], seed,
+                      (long)r->regions_within_tol, (long)r->nodes_within_tol,
+                      r->width_within_tol);
+            if (c == 2)
+                CHECK(r->regions_within_tol == 0, "%s seed %u: %ld regions within tol",
+                      names[c], seed, (long)r->regions_within_tol);
             if (c == 1)
                 CHECK(r->n_curves == 0 && r->n_points == 1, "%s seed %u: %ld curves, %ld points",
                       names[c], seed, (long)r->n_curves, (long)r->n_points);
