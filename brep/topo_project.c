@@ -113,13 +113,15 @@ int cb_topo_projector_starts(double (*uv)[2], int max, const cb_topo_projector *
         double d = cb_vec3_dist(g, p);
         if (!(d < dist[max - 1]))
             continue;
-        /* One start per point of space: the samples of a collapsed row (a pole, where Newton
-         * cannot leave the pole as S_u vanishes) would otherwise take every place, and a point
-         * near the pole would never be searched for beyond it. */
+        /* A point sampled many times (a pole row, a degenerate side) gives at most two
+         * starts: its starts differ only in a parameter Newton cannot move there (S_u vanishes
+         * at a pole), and would crowd out the samples beside them, so a point near the pole
+         * was never searched for beyond it. Two, so that a seam's two lifts both stay. */
         int dup = 0;
-        for (int j = 0; j < max && idx[j] >= 0 && !dup; j++)
-            dup = cb_vec3_dist(g, pr->grid + 3 * (size_t)idx[j]) <= 1e-12 * d;
-        if (dup)
+        for (int j = 0; j < max && idx[j] >= 0; j++)
+            dup += cb_vec3_dist(pr->grid + 3 * (size_t)idx[j], g) <=
+                   1e-13 * (1.0 + cb_vec3_norm(g));
+        if (dup >= 2)
             continue;
         for (int j = 0; j < max; j++)
             if (d < dist[j]) {

@@ -35,7 +35,7 @@ void cb_ssi_opts_default(cb_ssi_opts *o)
     o->threads = 0;
     o->max_phi_degree = 12;
     cb_ctopo_opts_default(&o->topo);
-    o->spline_max_depth = 20;
+    o->spline_max_depth = 30;
     o->spline_max_subpairs = 20000;
     o->recognise = 1;
     o->cancel = NULL;
@@ -266,6 +266,7 @@ typedef struct {
     int coincident, same_normal; /* the patches lie on one surface; normals agree at cxyz */
     double cxyz[3], cdist;       /* cdist: distance of cxyz from P's patch */
     _cb_ssi_spline_stats sst;
+    _cb_ssi_tiny_set tiny; /* subdivision route: sub-pairs left for _cb_ssi_tiny_resolve */
     _cb_ssi_piece_set pieces;
     slong n_marks;
     cb_ssi_mark *marks; /* opts.keep_marks: the graph's vertices; faces and side set later */
@@ -514,7 +515,7 @@ static void spline_run(pair_job *J, const pair_ctx *c)
     }
     _cb_ssi_spline_opts so = {c->opts->spline_max_depth, c->opts->spline_max_subpairs, c->tol,
                               c->chord, c->max_seg};
-    _cb_ssi_spline_pair(&J->pieces, &J->sst, &P, &Q, &so);
+    _cb_ssi_spline_pair(&J->pieces, &J->sst, &P, &Q, &so, &J->tiny, (int)(J - c->job));
     const _cb_ssi_spline_stats *s = &J->sst;
     if (s->nomem) {
         J->st = CB_ERR_NOMEM;
@@ -1081,6 +1082,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                          (long)(N * dq), (long)opts->max_phi_degree);
             }
             _cb_ssi_piece_set_init(&job[nj].pieces);
+            _cb_ssi_tiny_set_init(&job[nj].tiny);
             nj++;
         }
     free_boxes(qobb, pobb, qbox, pbox, qhave, phave);
@@ -1136,9 +1138,48 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
     }
     if (st == CB_OK) {
         _cb_ssi_piece_set *sets = malloc((size_t)(nj + 1) * sizeof(_cb_ssi_piece_set));
-        if (!sets)
+        _cb_ssi_tiny_set *tiny = malloc((size_t)(nj + 1) * sizeof(_cb_ssi_tiny_set));
+        char *bad = calloc((size_t)nj + 1, 1);
+        long *unres = calloc((size_t)nj + 1, sizeof(long));
+        if (!sets || !tiny || !bad || !unres)
             st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory for the curves of %ld "
                               "patch pairs", (long)nj);
+        /* Tangent regions the subdivision route left at its floor, resolved over all patch
+         * pairs of the two surfaces at once (a region met by several pairs becomes one point),
+         * on the pieces in the surfaces' domains. */
+        for (slong k = 0; k < nj && st == CB_OK; k++) {
+            pair_job *J = job + k;
+            if (!J->spline && J->st == CB_OK)
+                to_domains(&J->pieces, P ? P[J->ip].dp : NULL, Ps, Q + J->iq);
+            sets[k] = J->pieces;
+            tiny[k] = J->tiny;
+        }
+        long regions = 0, nodes = 0;
+        double wt_width = 0;
+        if (st == CB_OK && _cb_ssi_tiny_resolve(sets, nj, tiny, bad, unres, tol, &regions,
+                                                &nodes, &wt_width) < 0)
+            st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory resolving tangent regions");
+        for (slong k = 0; k < nj && st == CB_OK; k++) {
+            pair_job *J = job + k;
+            J->pieces = sets[k];
+            if (!bad[k])
+                continue;
+            /* A region larger than the tolerance: the pair is not certified. */
+            if (J->st == CB_OK) {
+                J->st = CB_ERR_UNSUPPORTED;
+                snprintf(J->msg, sizeof J->msg,
+                         "subdivision: %ld sub-patch pairs in a tangent region that is neither "
+                         "within tol nor proved within tol of the other surface (%ld examined)",
+                         unres[k], J->sst.subpairs);
+            }
+            J->sst.uncertified += unres[k];
+        }
+        r->regions_within_tol += regions;
+        r->nodes_within_tol += nodes;
+        r->width_within_tol = fmax(r->width_within_tol, wt_width);
+        free(tiny);
+        free(bad);
+        free(unres);
         slong n_coinc = 0, first_coinc = -1;
         for (slong k = 0; k < nj && st == CB_OK; k++) {
             pair_job *J = job + k;
@@ -1178,8 +1219,6 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                 r->pairs_empty += J->empty;
             }
             r->pairs_subdivided += J->fallback;
-            if (!J->spline)
-                to_domains(&J->pieces, P ? P[J->ip].dp : NULL, Ps, Q + J->iq);
             sets[k] = J->pieces;
             if (J->st == CB_OK && !J->spline && J->n_marks > 0) {
                 for (slong i = 0; i < J->n_marks; i++) {
@@ -1228,6 +1267,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
     }
     for (slong k = 0; k < nj; k++) {
         _cb_ssi_piece_set_clear(&job[k].pieces);
+        _cb_ssi_tiny_set_clear(&job[k].tiny);
         free(job[k].marks);
     }
     free(job);

@@ -1013,6 +1013,78 @@ static void test_occt_faces(void)
     }
 }
 
+/* Area of the disc of radius rho on the side x >= d of a chord at distance d from its centre. */
+static double disc_segment(double rho, double d)
+{
+    return rho <= d ? 0 : rho * rho * acos(d / rho) - d * sqrt(rho * rho - d * d);
+}
+
+/* A torus (major radius 1, minor 0.3, axis z through the origin) and the box
+ * [0.3, 3.3] x [-2, 2] x [-2, 2], written by Open CASCADE 7.6's STEP writer (tests/data), axis
+ * aligned and both turned by one rigid motion (a unit quaternion and a translation of no
+ * special values). The box face x = 0.3 is parallel to the torus's axis: its section's folds
+ * and its crossings of the tube's top and bottom lie on the rational patches' sides up to the
+ * rounding of the coordinates. V(A n B) = integral over z of the section's annulus on x >= 0.3
+ * (Gauss-Legendre in the angle z = r sin(theta), 2000 x 8 points: converged to 1e-14). */
+static void test_occt_torus(void)
+{
+    const double R = 1, r = 0.3, d = 0.3, v_torus = 2 * PI * PI * R * r * r, v_box = 48;
+    static const double gx[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
+                                 0.9602898564975363},
+                        gw[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
+                                 0.1012285362903763};
+    double inter = 0;
+    const int n = 2000;
+    for (int i = 0; i < n; i++)
+        for (int k = 0; k < 8; k++) {
+            double h = PI / n, th = -PI / 2 + (i + 0.5) * h + (k < 4 ? -1 : 1) * gx[k % 4] * h / 2;
+            double w = r * cos(th);
+            inter += gw[k % 4] * h / 2 * (disc_segment(R + w, d) - disc_segment(R - w, d)) * w;
+        }
+    const char *src = getenv("COLIBRI_SOURCE");
+    const char *names[2][2] = {{"occt_torus.step", "occt_box.step"},
+                               {"occt_torus_turned.step", "occt_box_turned.step"}};
+    for (int pose = 0; pose < 2; pose++) {
+        cb_topo_body *X[2] = {NULL, NULL};
+        for (int k = 0; k < 2; k++) {
+            char path[1024];
+            cb_error err;
+            snprintf(path, sizeof path, "%s/tests/data/%s", src ? src : ".", names[pose][k]);
+            CHECK(cb_step_read(X + k, path, &err) == CB_OK, "%s: %s", path, err.msg);
+        }
+        if (X[0] && X[1]) {
+            const char *name = pose ? "OCCT torus, box, turned" : "OCCT torus, box";
+            check_op(name, CB_BOOL_UNION, X[0], X[1], v_torus + v_box - inter, 1e-6, NULL);
+            check_op(name, CB_BOOL_INTERSECTION, X[0], X[1], inter, 1e-6, NULL);
+            check_op(name, CB_BOOL_DIFFERENCE, X[0], X[1], v_torus - inter, 1e-6, NULL);
+        }
+        cb_topo_body_free(X[0]);
+        cb_topo_body_free(X[1]);
+    }
+    /* Two cylinders of radius 0.6 and length 4 whose axes cross at right angles, as Open
+     * CASCADE's NurbsConvert and STEP writer give them in a turned pose (periodic nets of three
+     * 120-degree arcs, 13 digits): the Steinmetz solid, 16 r^3 / 3, with its two tangent
+     * crossing nodes. */
+    cb_topo_body *Y[2] = {NULL, NULL};
+    const char *cyl[2] = {"occt_nurbs_cyl_z.step", "occt_nurbs_cyl_x.step"};
+    for (int k = 0; k < 2; k++) {
+        char path[1024];
+        cb_error err;
+        snprintf(path, sizeof path, "%s/tests/data/%s", src ? src : ".", cyl[k]);
+        CHECK(cb_step_read(Y + k, path, &err) == CB_OK, "%s: %s", path, err.msg);
+    }
+    if (Y[0] && Y[1]) {
+        const double rc = 0.6, v_cyl = PI * rc * rc * 4, v_st = 16 * rc * rc * rc / 3;
+        const char *name = "OCCT NURBS Steinmetz";
+        check_op(name, CB_BOOL_UNION, Y[0], Y[1], 2 * v_cyl - v_st, 1e-6, NULL);
+        check_op(name, CB_BOOL_INTERSECTION, Y[0], Y[1], v_st, 1e-6, NULL);
+        touching_points = 2; /* the two halves of A touch at the nodes */
+        check_op(name, CB_BOOL_DIFFERENCE, Y[0], Y[1], v_cyl - v_st, 1e-6, NULL);
+    }
+    cb_topo_body_free(Y[0]);
+    cb_topo_body_free(Y[1]);
+}
+
 /* With an argument, only the named group runs (for debugging): bad, face, corner, steinmetz,
  * brackets, contacts, tricylinder, ujoint, shells, cancel, lens, occt, cardan, birds. */
 int main(int argc, char **argv)
@@ -1054,6 +1126,8 @@ int main(int argc, char **argv)
     }
     if (!only || !strcmp(only, "ujoint"))
         test_ujoint();
+    if (!only || !strcmp(only, "occt"))
+        test_occt_torus();
     if (!only || !strcmp(only, "shells"))
         test_shells();
     if (!only || !strcmp(only, "cancel"))
