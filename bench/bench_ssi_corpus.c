@@ -302,6 +302,73 @@ static void judge(side *s, const cb_graph_case *c, double tol)
 
 /* ---------------------------------------------------------------- the table ---------------- */
 
+/* Cases grouped by side and by the kind of their failure, for the summary. */
+#define MAX_GROUPS 64
+typedef struct {
+    char kind[80];
+    int side, count;
+    char ids[400];
+} group;
+
+static group groups[MAX_GROUPS];
+static int n_groups;
+
+static void group_add(int sd, const char *kind, const char *id)
+{
+    int k = 0;
+    while (k < n_groups && (groups[k].side != sd || strcmp(groups[k].kind, kind)))
+        k++;
+    if (k == n_groups) {
+        if (n_groups == MAX_GROUPS)
+            return;
+        n_groups++;
+        groups[k].side = sd;
+        snprintf(groups[k].kind, sizeof groups[k].kind, "%.79s", kind);
+    }
+    group *g = groups + k;
+    size_t len = strlen(g->ids);
+    if (len + strlen(id) + 8 < sizeof g->ids)
+        snprintf(g->ids + len, sizeof g->ids - len, "%s%s", len ? " " : "", id);
+    else if (!strstr(g->ids, " ..."))
+        snprintf(g->ids + len, sizeof g->ids - len, " ...");
+    g->count++;
+}
+
+/* The kind of a failure: the refusal reason, or the rule a WRONG result broke. */
+static const char *failure_kind(const side *s, const cb_graph_case *t, int occt_side, char *buf,
+                                size_t n)
+{
+    if (s->v == V_REFUSED && !occt_side)
+        return ssc_refusal_class(&s->run, buf, n);
+    if (s->v == V_WRONG) {
+        const ssc_score *c = &s->score;
+        if (!c->topology_ok) {
+            /* The first count that differs, in this order. */
+            if (c->broken)
+                snprintf(buf, n, "WRONG topology (a curve broken)");
+            else if (c->points != t->points)
+                snprintf(buf, n, "WRONG topology (isolated points %s)",
+                         c->points < t->points ? "missed" : "extra");
+            else if (c->closed != t->closed)
+                snprintf(buf, n, "WRONG topology (closed curves %s)",
+                         c->closed < t->closed ? "missed" : "extra");
+            else
+                snprintf(buf, n, "WRONG topology (open curves %s)",
+                         c->open < t->open ? "missed" : "extra");
+        }
+        else
+            snprintf(buf, n, "WRONG geometry (%s)",
+                     c->bad_flags ? "tangential flags" : c->res > SSC_RES ? "off the surfaces"
+                     : c->overlap > SSC_OVERLAP                        ? "a piece twice"
+                     : c->off_tight > SSC_OFF || c->off_loose > SSC_LOOSE
+                         ? "off the designed curve"
+                         : "the designed curve not covered");
+        return buf;
+    }
+    snprintf(buf, n, "%s%s%.60s", VERDICT[s->v], s->run.msg[0] ? ": " : "", s->run.msg);
+    return buf;
+}
+
 typedef struct {
     int n[CB_GRAPH_POSE_COUNT][2][6]; /* pose, side, verdict */
     double log_ratio;                 /* sum of log(C / O) over cases both finished */
@@ -317,9 +384,10 @@ static void json_side(FILE *f, const char *key, const side *s, int occt_side)
         fprintf(f,
                 ", \"closed\": %d, \"open\": %d, \"points\": %d, \"broken\": %d, "
                 "\"bad_flags\": %d, \"residual_tol\": %.3g, \"off_size\": [%.3g, %.3g], "
-                "\"cover_size\": [%.3g, %.3g]",
+                "\"overlap\": %.3g, \"cover_size\": [%.3g, %.3g]",
                 s->score.closed, s->score.open, s->score.points, s->score.broken,
                 s->score.bad_flags, s->score.res, s->score.off_tight, s->score.off_loose,
+                isfinite(s->score.overlap) ? s->score.overlap : -1,
                 isfinite(s->score.cover_tight) ? s->score.cover_tight : -1,
                 isfinite(s->score.cover_loose) ? s->score.cover_loose : -1);
     fprintf(f, ", \"curves\": %d, \"points_out\": %d", s->out.n_curves, s->out.n_points);
@@ -502,6 +570,11 @@ int main(int argc, char **argv)
                     printf(" %-8s %8.3f %.60s", VERDICT[sd[1].v], sd[1].run.time,
                            sd[1].v == V_WRONG ? sd[1].score.why : sd[1].run.msg);
                 printf("\n");
+                for (int k = 0; k < (occt ? 2 : 1); k++)
+                    if (sd[k].v != V_PASS) {
+                        char b[120];
+                        group_add(k, failure_kind(sd + k, &c, k, b, sizeof b), c.id);
+                    }
                 if (sd[0].v == V_REFUSED) {
                     char b[80];
                     printf("    Colibri refused: %ld pairs not certified, mostly %s\n",
@@ -590,6 +663,13 @@ int main(int argc, char **argv)
             printf(" | %-12s", cb);
     }
     printf(" |\n");
+    for (int k = 0; k < (occt ? 2 : 1); k++) {
+        printf("\n%s: cases not passed, by %s\n", k ? "OCCT" : "Colibri",
+               k ? "kind" : "the dominant refusal reason (sub-patch pairs counted most) or kind");
+        for (int g = 0; g < n_groups; g++)
+            if (groups[g].side == k)
+                printf("  %3d  %s: %s\n", groups[g].count, groups[g].kind, groups[g].ids);
+    }
     if (json) {
         fputs("\n], \"table\": [", json);
         for (int cls = 0; cls < CB_GRAPH_CLASS_COUNT; cls++) {

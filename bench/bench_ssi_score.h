@@ -11,13 +11,17 @@
  *
  * - on both surfaces: every output point within SSC_RES tol of P and of Q (vertical distance
  *   along the design z axis, an upper bound of the distance to each graph);
- * - on the designed curve: every output point within SSC_TIGHT size of the designed curve
- *   where that is a transversal branch away from any singular point, within SSC_LOOSE size
- *   near a tangential branch, an isolated contact, or within SSC_SING size of a node, cusp or
- *   touching point (there the surfaces stay within tol of each other over a band about
+ * - on the designed curve: every output point within SSC_OFF size (10 tol) of the designed
+ *   curve where that is a transversal branch away from any singular point, within SSC_LOOSE
+ *   size near a tangential branch, an isolated contact, or within SSC_SING size of a node,
+ *   cusp or touching point (there the surfaces stay within tol of each other over a band about
  *   sqrt(tol) wide, so any point of that band is an intersection point within tolerance);
  * - covered: every point of the designed curve (2000 samples per piece, clipped to the square)
- *   within the same bound of the output;
+ *   within SSC_TIGHT size of the output (SSC_LOOSE where the point bound is loose): polylines
+ *   may cut corners by their chord;
+ * - no piece twice: the output segments lying within SSC_JOIN size of another curve, away
+ *   from singular points and from their own curve's ends, add up to at most SSC_OVERLAP of the
+ *   designed curve's length;
  * - topology: curves joined into components when they come within SSC_JOIN size of each other
  *   anywhere, or both come within SSC_SING size of one designed singular point (a crossing or
  *   contact the band leaves undecided within tolerance); a component no wider than SSC_JOIN
@@ -43,8 +47,10 @@
 #include "ssi/ssi.h"
 
 #define SSC_RES 10.0    /* times tol */
+#define SSC_OFF 1e-5    /* times size: 10 tol */
 #define SSC_TIGHT 2e-4  /* times size */
 #define SSC_LOOSE 1e-2  /* times size */
+#define SSC_OVERLAP 1e-2 /* of the designed curve's length */
 #define SSC_SING 5e-3   /* times size */
 #define SSC_JOIN 1e-4   /* times size */
 #define SSC_SAMPLES 2000
@@ -104,9 +110,11 @@ static inline int ssc_output_add_point(ssc_output *o, const double X[3])
 typedef struct {
     int closed, open, points, broken; /* components found */
     int bad_flags;                    /* tangential flags unlike the designed piece */
+    double overlap;                   /* length of output lying on another output curve, over
+                                         the designed length */
     double res;         /* largest distance of an output point from P or Q, / tol */
     double off_tight, off_loose; /* largest distance from the designed curve, / size, of the
-                                    points held to SSC_TIGHT and to SSC_LOOSE */
+                                    points held to SSC_OFF and to SSC_LOOSE */
     double cover_tight, cover_loose; /* largest distance of the designed curve from the
                                         output, / size (HUGE_VAL: no output) */
     int topology_ok, geometry_ok;
@@ -433,7 +441,7 @@ static inline int ssc_score_output(ssc_score *s, const cb_graph_case *c, const s
     double size = c->size, L = fmax(c->L[0], c->L[1]);
     /* Bounds in the design plane. */
     double tight = SSC_TIGHT * size / L, loose = SSC_LOOSE * size / L, sing = SSC_SING * size / L,
-           join = SSC_JOIN * size / L;
+           join = SSC_JOIN * size / L, truth_len = 0;
     ssc_truth t;
     ssc_grid g;
     int ok = ssc_truth_make(&t, c) && ssc_grid_make(&g, c, o);
@@ -491,6 +499,28 @@ static inline int ssc_score_output(ssc_score *s, const cb_graph_case *c, const s
                 s->cover_tight = fmax(s->cover_tight, isfinite(d) ? d * L / size : HUGE_VAL);
         }
     }
+
+    /* Overlap: output segments on another curve, away from singular points and own ends. */
+    for (int k = 0; k < t.n_poly; k++)
+        for (int i = 0; i + 1 < t.len[k]; i++) {
+            const double *a = t.xy + 2 * (t.start[k] + i);
+            truth_len += hypot(a[2] - a[0], a[3] - a[1]);
+        }
+    for (int k = 0; k < nc; k++) {
+        const double *x = g.xy + 2 * g.start[k];
+        int n = g.len[k];
+        for (int i = 0; i + 1 < n; i++) {
+            const double *a = x + 2 * i, *b = a + 2;
+            double m[2] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])};
+            int which;
+            if (hypot(m[0] - x[0], m[1] - x[1]) <= 10 * join ||
+                hypot(m[0] - x[2 * n - 2], m[1] - x[2 * n - 1]) <= 10 * join ||
+                ssc_sing_dist(c, m, &which) <= sing || ssc_grid_dist(&g, m, join, k) > join)
+                continue;
+            s->overlap += hypot(b[0] - a[0], b[1] - a[1]);
+        }
+    }
+    s->overlap = truth_len > 0 ? s->overlap / truth_len : s->overlap > 0 ? HUGE_VAL : 0;
 
     /* Components. */
     for (int k = 0; k < nc; k++)
@@ -644,7 +674,11 @@ static inline int ssc_score_output(ssc_score *s, const cb_graph_case *c, const s
         snprintf(b, sizeof b, "a point %.2g tol off the surfaces", s->res);
         ssc_why(s, b);
     }
-    if (s->off_tight > SSC_TIGHT || s->off_loose > SSC_LOOSE) {
+    if (s->overlap > SSC_OVERLAP) {
+        snprintf(b, sizeof b, "curves overlap over %.2g of the designed length", s->overlap);
+        ssc_why(s, b);
+    }
+    if (s->off_tight > SSC_OFF || s->off_loose > SSC_LOOSE) {
         snprintf(b, sizeof b, "a point %.2g size off the designed curve (%.2g near contacts)",
                  s->off_tight, s->off_loose);
         ssc_why(s, b);
@@ -655,7 +689,7 @@ static inline int ssc_score_output(ssc_score *s, const cb_graph_case *c, const s
                  s->cover_tight, s->cover_loose);
         ssc_why(s, b);
     }
-    s->geometry_ok = s->res <= SSC_RES && s->off_tight <= SSC_TIGHT &&
+    s->geometry_ok = s->res <= SSC_RES && s->off_tight <= SSC_OFF && s->overlap <= SSC_OVERLAP &&
                      s->off_loose <= SSC_LOOSE && s->cover_tight <= SSC_TIGHT &&
                      s->cover_loose <= SSC_LOOSE && !s->bad_flags;
     free(pxy);

@@ -8,8 +8,8 @@
  *    singular points with zero gradient), and the generic poses are generic (a rotation that
  *    is no axis permutation, knots that are not dyadic).
  * 2. The scoring rules (bench/bench_ssi_score.h) can fail: the designed curve itself passes;
- *    with a piece missing, moved off the surfaces, broken, or with a wrong tangential flag it
- *    does not.
+ *    with a piece missing, moved off the surfaces, broken, given twice, with a wrong tangential
+ *    flag or a stray point it does not.
  * 3. Colibri on the manifest's cases, scored by the runner's rules: the test FAILS on any WRONG
  *    (reported certified but wrong) and on any case marked "pass" that does not pass; it
  *    PRINTS the cases marked "known" (with the reason they do not pass yet) that pass now, so
@@ -271,6 +271,14 @@ static void test_scoring(void)
                 ssc_output_add_point(&m, o.point + 3 * k);
             CHECK(!passes(&c, &m, &s), "scoring %s: passes with a gap", c.id);
             ssc_output_clear(&m);
+        }
+        /* A curve twice. */
+        if (o.n_curves > 0) {
+            ssc_curve cv = o.curve[0];
+            ssc_output_add_curve(&o, cv.p, cv.n, cv.closed, cv.tangential);
+            CHECK(!passes(&c, &o, &s) && s.overlap > SSC_OVERLAP,
+                  "scoring %s: passes with a curve twice (overlap %g)", c.id, s.overlap);
+            free(o.curve[--o.n_curves].p);
         }
         /* A wrong tangential flag. */
         if (o.n_curves > 0) {
