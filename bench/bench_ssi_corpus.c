@@ -65,8 +65,8 @@ static int child(int cls, int pose, int index, int threads)
     memset(&o, 0, sizeof o);
     if (!ssc_colibri(&run, &o, &c, threads, now))
         return 1;
-    printf("R %d %ld %.6f %.17g %ld %ld", run.status, run.failed, run.time, run.tol,
-           run.subpairs, run.pairs);
+    printf("R %d %ld %.6f %.17g %ld %ld %ld", run.status, run.failed, run.time, run.tol,
+           run.subpairs, run.pairs, run.subdivided);
     for (int i = 0; i < SSC_N_REASONS; i++)
         printf(" %ld", run.reason[i]);
     printf("\nM %s\n", run.msg);
@@ -182,9 +182,10 @@ static int parse_colibri(side *s, char *text)
             snprintf(r->msg, sizeof r->msg, "not built: %.200s", line + 2);
             break;
         } else if (line[0] == 'R') {
-            have_r = sscanf(line + 2, "%d %ld %lf %lf %ld %ld %ld %ld %ld %ld %ld", &r->status,
-                            &r->failed, &r->time, &r->tol, &r->subpairs, &r->pairs, r->reason,
-                            r->reason + 1, r->reason + 2, r->reason + 3, r->reason + 4) == 11;
+            have_r = sscanf(line + 2, "%d %ld %lf %lf %ld %ld %ld %ld %ld %ld %ld %ld", &r->status,
+                            &r->failed, &r->time, &r->tol, &r->subpairs, &r->pairs,
+                            &r->subdivided, r->reason, r->reason + 1, r->reason + 2,
+                            r->reason + 3, r->reason + 4) == 12;
         } else if (line[0] == 'M') {
             snprintf(r->msg, sizeof r->msg, "%s", line[1] ? line + 2 : "");
         } else if (line[0] == 'W' && r->n_where < SSC_WHERE) {
@@ -391,6 +392,9 @@ static void json_side(FILE *f, const char *key, const side *s, int occt_side)
                 isfinite(s->score.cover_tight) ? s->score.cover_tight : -1,
                 isfinite(s->score.cover_loose) ? s->score.cover_loose : -1);
     fprintf(f, ", \"curves\": %d, \"points_out\": %d", s->out.n_curves, s->out.n_points);
+    if (!occt_side && s->v != V_TIMEOUT && s->v != V_CRASH)
+        fprintf(f, ", \"patch_pairs\": %ld, \"subdivided\": %ld", s->run.pairs,
+                s->run.subdivided);
     if (s->v == V_REFUSED && occt_side == 0)
         fprintf(f,
                 ", \"pairs_not_certified\": %ld, \"subpairs\": %ld, \"no_direction\": %ld, "

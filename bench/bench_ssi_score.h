@@ -716,7 +716,8 @@ static const char *const ssc_reason_name[SSC_N_REASONS] = {
 typedef struct {
     int status;       /* of cb_ssi_surfaces */
     long failed;      /* patch pairs not certified (1 when the call itself failed) */
-    long subpairs, pairs;
+    long subpairs, pairs, subdivided; /* sub-patch pairs examined; patch pairs, of them
+                                         taken by the subdivision route */
     long reason[SSC_N_REASONS];
     double time, tol; /* seconds of the call; tolerance used */
     char msg[240];    /* the error, or the first failure record's message */
@@ -752,6 +753,7 @@ static inline int ssc_colibri(ssc_run *run, ssc_output *o, const cb_graph_case *
     run->failed = st ? 1 : (long)r->n_failed + (r->status != CB_OK && !r->n_failed);
     run->subpairs = (long)r->subpairs;
     run->pairs = (long)r->pairs_total;
+    run->subdivided = (long)r->pairs_subdivided;
     snprintf(run->msg, sizeof run->msg, "%.230s",
              st ? err.msg : r->n_failed ? r->failed[0].msg : "");
     for (slong k = 0; k < r->n_failed; k++) {
