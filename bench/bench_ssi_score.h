@@ -558,7 +558,8 @@ static inline int ssc_score_output(ssc_score *s, const cb_graph_case *c, const s
     }
     /* Per component: free ends, reaches the sides, extent. */
     double *box = malloc((size_t)(nc + 1) * 4 * sizeof(double));
-    int *free_ends = calloc((size_t)nc + 1, sizeof(int)), *side = calloc((size_t)nc + 1, sizeof(int));
+    int *free_ends = calloc((size_t)nc + 1, sizeof(int));
+    int *side = calloc((size_t)nc + 1, sizeof(int));
     if (!box || !free_ends || !side) {
         free(box);
         free(free_ends);

@@ -885,6 +885,13 @@ static cb_status make_generic(cb_graph_case *c, design *d, rng_t *r, cb_error *e
     double kx[4], ky[4], KX[16], KY[16];
     int nkx = random_knots(kx, r, rand_int(r, 0, 3), rect[0], rect[1], 0.08);
     int nky = random_knots(ky, r, rand_int(r, 0, 3), rect[2], rect[3], 0.08);
+    /* Half the cases (drawn from a stream of their own, so that the other draws stay): f one
+     * polynomial, and P and Q refined at knots of their own, so that no knot line of one is a
+     * knot line of the other; otherwise f's breaks are knot lines of both. */
+    rng_t r2 = {r->s ^ 0x6a09e667f3bcc908ULL};
+    int independent = rng_next(&r2) & 1;
+    if (independent)
+        nkx = nky = 0;
     for (int i = 0; i < nkx; i++)
         c->shared_knots += kx[i] > 0 && kx[i] < 1;
     for (int i = 0; i < nky; i++)
@@ -931,6 +938,11 @@ static cb_status make_generic(cb_graph_case *c, design *d, rng_t *r, cb_error *e
         st = elevate(c->Q, CB_DIR_V, qq - q, err);
     for (int dir = 0; dir < 2 && !st; dir++)
         st = refine(c->Q, (cb_dir)dir, extra[dir], n_extra[dir], err);
+    for (int dir = 0; dir < 2 && !st && independent; dir++) {
+        double k[2];
+        int n = random_knots(k, &r2, rand_int(&r2, 1, 2), rect[2 * dir], rect[2 * dir + 1], 0.05);
+        st = refine(c->Q, (cb_dir)dir, k, n, err);
+    }
     if (!st) {
         /* h as one Bezier patch of degree (qp, qq) over the rectangle. */
         double pow[(DEG + 1) * (DEG + 1)], bern[(DEG + 1) * (DEG + 1)];
@@ -975,6 +987,11 @@ static cb_status make_generic(cb_graph_case *c, design *d, rng_t *r, cb_error *e
         st = cb_nurbs_surface_set(c->P, c->F, err);
     for (int dir = 0; dir < 2 && !st; dir++)
         st = restrict_to(c->P, (cb_dir)dir, 0, 1, err);
+    for (int dir = 0; dir < 2 && !st && independent; dir++) {
+        double k[3];
+        int n = random_knots(k, &r2, rand_int(&r2, 1, 3), 0, 1, 0.05);
+        st = refine(c->P, (cb_dir)dir, k, n, err);
+    }
     if (!st && rng_next(r) % 10 < 3)
         st = elevate(c->P, (cb_dir)(rng_next(r) & 1), 1, err);
     if (!st && rng_next(r) % 10 < 4) {

@@ -115,7 +115,8 @@ void cb_model_graph_point(double X[3], const cb_model_graph *g, double u, double
  *   PARAM    the generic surfaces below, moved by a rotation that permutes (and flips) axes
  *            and a dyadic translation;
  *   GENERIC  f a random spline of bidegree (3, 3) (sometimes (4, 4), (5, 3), (3, 5)) with random
- *            interior knots (none of them dyadic) and random control values; h with random
+ *            interior knots (none of them dyadic; in half the cases none, and P and Q get
+ *            knots of their own instead) and random control values; h with random
  *            parameters; Q = f + h degree-elevated to h's degrees, with knots of its own, often
  *            over a larger rectangle than P's square; P sometimes elevated or refined once
  *            more; each parametrised by its own affine maps (non-dyadic scales and offsets,
