@@ -118,7 +118,9 @@ static run_end run_timed(char **out, size_t *len, char *const argv[], double tim
     size_t cap = 1 << 16;
     char *buf = malloc(cap);
     int killed = 0;
-    for (;;) {
+    if (!buf)
+        kill(pid, SIGKILL);
+    while (buf) {
         double left = timeout - (now() - t0);
         if (left <= 0) {
             kill(pid, SIGKILL);
@@ -133,8 +135,11 @@ static run_end run_timed(char **out, size_t *len, char *const argv[], double tim
             continue;
         if (*len + 4096 + 1 > cap) {
             char *b = realloc(buf, cap *= 2);
-            if (!b)
+            if (!b) {
+                /* No room for its output: stop it rather than leave it blocked on the pipe. */
+                kill(pid, SIGKILL);
                 break;
+            }
             buf = b;
         }
         ssize_t n = read(fd[0], buf + *len, cap - *len - 1);
