@@ -378,9 +378,36 @@ static int find_cross(const cut_ctx *cx, const cut_pt *a, const cut_pt *b, cut_p
     return 1;
 }
 
+/* 1 when interior point i of run r lies at a pole of one of the faces (settle_poles' test)
+ * where the collapsed parameter differs on its two sides: the curve passes over the pole,
+ * and in (u, v) it leaves the pole line elsewhere than it arrived. before and after are the
+ * point with that parameter of the arriving and of the leaving side. */
+static int pole_split(const cut_ctx *cx, const cut_run *r, int i, cut_pt *before, cut_pt *after)
+{
+    if (i <= 0 || i + 1 >= r->n)
+        return 0;
+    for (int s = 0; s < 2; s++) {
+        double dd[6][3];
+        cb_topo_inverter_eval_derivs(dd, &cx->f[s]->inv, r->p[i].uv[s][0], r->p[i].uv[s][1]);
+        for (int d = 0; d < 2; d++) {
+            if (!(norm3(dd[1 + d]) <= 1e-9 * norm3(dd[2 - d])))
+                continue;
+            double a = r->p[i - 1].uv[s][d], b = r->p[i + 1].uv[s][d];
+            if (!(fabs(a - b) > 1e-9 * (1 + fabs(a) + fabs(b))))
+                continue;
+            *before = *after = r->p[i];
+            before->uv[s][d] = a;
+            after->uv[s][d] = b;
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* Wraps the periodic parameters of run r into the faces' windows and splits it where a lift
- * jumps (the curve crosses a window's end, the seam of a face spanning a whole period). A
- * closed run with a crossing is first rotated to start and end there. Emits the pieces. */
+ * jumps (the curve crosses a window's end, the seam of a face spanning a whole period) and
+ * where it passes over a pole (pole_split). A closed run with a split is first rotated to
+ * start and end there. Emits the pieces. */
 cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cut_ctx *cx,
                              const cb_ssi_curve *c, int curve, cb_error *err)
 {
@@ -392,27 +419,36 @@ cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cu
                 if (cx->P[s][d] > 0)
                     r->p[i].uv[s][d] = wrap(r->p[i].uv[s][d], cx->lo[s][d], cx->P[s][d]);
     cut_pt before, after;
-    int first = -1;
+    int first = -1, at_pole = 0;
     for (int i = 0; i + 1 < r->n && first < 0; i++)
-        if (find_cross(cx, r->p + i, r->p + i + 1, &before, &after))
+        if ((at_pole = pole_split(cx, r, i, &before, &after)) ||
+            find_cross(cx, r->p + i, r->p + i + 1, &before, &after))
             first = i;
     if (first < 0)
         return emit(out, r, c, curve, closed, 1e-6 * cx->min_len, cx->f, err);
     cut_run rot = {0, 0, NULL}, piece = {0, 0, NULL};
     int fail = 0;
     if (closed) {
-        /* From the crossing round to it: after, p[first + 1 ..], p[1 .. first], before (the
-         * last point repeats the first). */
+        /* From the split round to it: after, p[first + 1 ..], p[1 .. first], before (the
+         * last point repeats the first; at a pole, p[first] is before and after). */
         fail |= _cb_cut_run_push(&rot, &after);
         for (int i = first + 1; i < r->n; i++)
             fail |= _cb_cut_run_push(&rot, r->p + i);
-        for (int i = 1; i <= first; i++)
+        for (int i = 1; i < first + !at_pole; i++)
             fail |= _cb_cut_run_push(&rot, r->p + i);
         fail |= _cb_cut_run_push(&rot, &before);
         r = &rot;
     }
     cb_status st = CB_OK;
     for (int i = 0; i < r->n && !fail && !st; i++) {
+        if (pole_split(cx, r, i, &before, &after)) {
+            fail |= _cb_cut_run_push(&piece, &before);
+            if (!fail && length_over(&piece, 0.1 * cx->min_len))
+                st = emit(out, &piece, c, curve, 0, 1e-6 * cx->min_len, cx->f, err);
+            piece.n = 0;
+            fail |= _cb_cut_run_push(&piece, &after);
+            continue;
+        }
         fail |= _cb_cut_run_push(&piece, r->p + i);
         if (i + 1 < r->n && find_cross(cx, r->p + i, r->p + i + 1, &before, &after)) {
             fail |= _cb_cut_run_push(&piece, &before);
@@ -543,7 +579,15 @@ static void tangents(cb_bool_cut *k, const cb_face *const f[2])
             double q = sv[0] * dir[0] + sv[1] * dir[1] + sv[2] * dir[2];
             double det = a * c - b * b;
             double *w = k->duv[s] + 2 * i;
-            if (det > 1e-12 * a * c && det > 0) {
+            if (a <= 1e-18 * c || c <= 1e-18 * a) {
+                /* At a pole (settle_poles' test): the collapsed parameter is held at its
+                 * neighbour's value, so it does not move; the other follows dir. The solve
+                 * would divide round-off by |S_u|^2 ~ 0 and send the pcurve across the
+                 * parameter plane at the curve's end. */
+                int col = a <= 1e-18 * c ? 0 : 1;
+                w[col] = 0;
+                w[1 - col] = col ? (a > 0 ? p / a : 0) : (c > 0 ? q / c : 0);
+            } else if (det > 1e-12 * a * c && det > 0) {
                 w[0] = (c * p - b * q) / det;
                 w[1] = (a * q - b * p) / det;
             } else {
