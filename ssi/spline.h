@@ -189,4 +189,27 @@ typedef struct {
 void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *stats, const _cb_ssi_bez *P,
                          const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o);
 
+/* ---------------------------------------------------------------- coincidence ------------- */
+
+/* Pre-filter (ssi_coincide.c; never decides): every point of a CB_SSI_COINCIDENT_GRID square
+ * grid of Q within CB_SSI_COINCIDENT_FILTER tol of P's map continued over local [-1, 2]^2
+ * (projection), the centre first. */
+int _cb_ssi_coincide_filter_bez(const _cb_ssi_bez *P, const _cb_ssi_bez *Q, double tol);
+
+/* Whether the Bezier patch q lies on the continuation of the Bezier patch p (p, q: patches of
+ * cb_nurbs_surface_extract_bezier with positive weights; P, Q: the same as _cb_ssi_bez, for the
+ * projections): 1 exactly (q(s, t) = p(A(s, t)) for an axis-aligned affine A, possibly
+ * swapping the parameters; *width = 0), 2 within tol (every point q(s, t) within *width <=
+ * CB_SSI_COINCIDENT_WIDTH tol of the point p(A(s, t)) of p's map), 0 no proof. Candidates for
+ * A: the one identifying the patches' domains (the same parameterisation), and the one through
+ * p's parameters of q's corners (projection onto p continued), snapped to the 2^-30 grid and
+ * as found. Each is checked in exact rational arithmetic (FLINT fmpq, the control data taken as
+ * the dyadic rationals they are): p's homogeneous net reparameterised by A (blossoms), the
+ * difference D = p(A) w_q - q w_p(A) as a Bernstein polynomial, and max |D_ij|^2 compared with
+ * (tol min w_p(A) min w_q)^2 over the weights' Bernstein coefficients (which must be
+ * positive): |p(A) - q| = |D| / (w_p(A) w_q) <= max |D_ij| / (min w min w). */
+int _cb_ssi_coincide_reparam(double *width, const cb_nurbs_surface_struct *p,
+                             const cb_nurbs_surface_struct *q, const _cb_ssi_bez *P,
+                             const _cb_ssi_bez *Q, double tol);
+
 #endif

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "ssi/ssi.h"
+#include "ssi/ssi_tol.h"
 
 /* Knots and weights must agree with the conversion's to this relative amount (they are
  * computed the same way, so in practice they agree bit for bit). */
@@ -304,6 +305,23 @@ void _cb_ssi_recog_param(double out[2], const cb_nurbs_surface_struct *s,
     out[1] = a->kind == CB_ANALYTIC_SPHERE ? arc_param(s->knots_v, s->n_v, 0, uv[1]) : uv[1];
 }
 
+/* The same B-spline exactly: degrees, counts, knots and homogeneous control points. */
+static int identical(const cb_nurbs_surface_struct *a, const cb_nurbs_surface_struct *b)
+{
+    if (a->deg_u != b->deg_u || a->deg_v != b->deg_v || a->n_u != b->n_u || a->n_v != b->n_v)
+        return 0;
+    for (int k = 0; k < a->n_u + a->deg_u + 1; k++)
+        if (a->knots_u[k] != b->knots_u[k])
+            return 0;
+    for (int k = 0; k < a->n_v + a->deg_v + 1; k++)
+        if (a->knots_v[k] != b->knots_v[k])
+            return 0;
+    for (int k = 0; k < 4 * a->n_u * a->n_v; k++)
+        if (a->cw[k] != b->cw[k])
+            return 0;
+    return 1;
+}
+
 static double nurbs_dist(const cb_nurbs_surface_struct *s, const double uv[2], const double X[3])
 {
     double p[3], d[3];
@@ -327,7 +345,7 @@ cb_status _cb_ssi_recognised_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
         const cb_nurbs_surface_struct *n = in[k]->nurbs;
         /* Control points within delta of the conversion: a thousandth of the tolerance (the
          * default tolerance relative to the net's own size when none is given). */
-        double delta = 1e-3 * opts->tol;
+        double delta = CB_SSI_RECOGNISE * opts->tol;
         if (!(opts->tol > 0)) {
             cb_aabb b;
             cb_nurbs_surface_aabb(&b, n);
@@ -373,6 +391,62 @@ cb_status _cb_ssi_recognised_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
                 }
                 t->max_dist_a = fmax(t->max_dist_a, dist[0]);
                 t->max_dist_b = fmax(t->max_dist_b, dist[1]);
+            }
+        }
+        /* Regions in the B-splines' parameters; a coincidence of the analytic forms is exact
+         * for the B-splines only when they are the same net (they are the analytic surfaces
+         * within CB_SSI_RECOGNISE tol, not exactly). */
+        for (slong k = 0; k < t->n_regions; k++) {
+            double *box[2] = {t->region[k].box_a, t->region[k].box_b};
+            for (int q = 0; q < 2; q++) {
+                if (!rec[q])
+                    continue;
+                double lo[2] = {box[q][0], box[q][2]}, hi[2] = {box[q][1], box[q][3]};
+                _cb_ssi_recog_param(lo, in[q]->nurbs, &S[q].analytic, lo);
+                _cb_ssi_recog_param(hi, in[q]->nurbs, &S[q].analytic, hi);
+                box[q][0] = fmin(lo[0], hi[0]);
+                box[q][1] = fmax(lo[0], hi[0]);
+                box[q][2] = fmin(lo[1], hi[1]);
+                box[q][3] = fmax(lo[1], hi[1]);
+            }
+        }
+        int same = A->kind == CB_SSI_NURBS && B->kind == CB_SSI_NURBS &&
+                   identical(A->nurbs, B->nurbs);
+        for (slong k = 0; k < t->n_coincident && !same; k++) {
+            cb_ssi_coincident *c = t->coincident + k;
+            if (!c->exact)
+                continue;
+            c->exact = 0;
+            c->width = CB_SSI_RECOGNISE * t->tol;
+            t->pairs_certified--;
+            t->pairs_within_tolerance++;
+            cb_ssi_region *g = _cb_ssi_add_region(t, CB_SSI_REGION_COINCIDENCE, c->face_a,
+                                                  c->face_b, -1, -1, c->width);
+            if (!g) {
+                cb_ssi_result_clear(t);
+                return cb_error_set(err, CB_ERR_NOMEM,
+                                    "ssi: out of memory recording coincident surfaces");
+            }
+            for (int q = 0; q < 2; q++) {
+                double *bx = q ? g->box_b : g->box_a;
+                if (in[q]->kind == CB_SSI_NURBS)
+                    cb_nurbs_surface_domain(in[q]->nurbs, bx);
+                else
+                    memcpy(bx, in[q]->range, 4 * sizeof(double));
+            }
+            for (int q = 0; q < 3; q++) {
+                g->lo[q] = -HUGE_VAL;
+                g->hi[q] = HUGE_VAL;
+            }
+            for (int k2 = 0; k2 < 2; k2++) {
+                if (in[k2]->kind != CB_SSI_NURBS)
+                    continue;
+                cb_aabb b;
+                cb_nurbs_surface_aabb(&b, in[k2]->nurbs);
+                for (int q = 0; q < 3; q++) {
+                    g->lo[q] = fmax(g->lo[q], b.lo[q]);
+                    g->hi[q] = fmin(g->hi[q], b.hi[q]);
+                }
             }
         }
         r->tol = t->tol;

@@ -1112,6 +1112,10 @@ static void test_recognise(void)
 int main(int argc, char **argv)
 {
     const char *only = argc > 1 ? argv[1] : NULL;
+    if (only && !strcmp(only, "table4")) {
+        test_table4();
+        return check_report("test_ssi_analytic");
+    }
     if (only && !strcmp(only, "steinmetz")) {
         test_recognise();
         test_steinmetz();

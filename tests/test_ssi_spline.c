@@ -818,8 +818,12 @@ static void test_fallback(void)
     cb_topo_body_free(B);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
+    if (argc > 1 && !strcmp(argv[1], "fallback")) {
+        test_fallback();
+        return check_report("test_ssi_spline");
+    }
     test_enclosure();
     test_paraboloid_plane();
     test_cylinders();
