@@ -17,10 +17,15 @@
  *      point inverts inside (Dixon inversion for spline patches, the own parameters for
  *      analytic surfaces).
  *   6. Stitching (ssi_stitch.c): pieces of all patch pairs joined across patch boundaries into
- *      maximal curves, duplicates on shared boundaries removed, in patch-pair index order, so
- *      the output does not depend on the number of threads.
- * A patch pair the topology stage cannot certify (CB_ERR_UNSUPPORTED, CB_ERR_NUMERIC, or phi
- * of a degree above opts.max_phi_degree) is listed in the result, never dropped silently.
+ *      maximal curves by the identity of their ends (the graphs' vertices, exact boundary roots
+ *      on shared sides, enclosures), never by distance alone; duplicates on shared boundaries
+ *      removed; in patch-pair index order, so the output does not depend on the number of
+ *      threads.
+ * Every result has one of three outcomes (cb_ssi_outcome; ssi/ssi_tol.h names every rule):
+ * certified, resolved within tolerance (a region listed in r->region), or refused (listed in
+ * r->failed: a patch pair the topology stage cannot certify (CB_ERR_UNSUPPORTED,
+ * CB_ERR_NUMERIC, or phi of a degree above opts.max_phi_degree), or an ambiguous join wider
+ * than tol), never dropped silently. The result container's operations are in ssi_result.c.
  *
  * Spline/spline patch pairs whose phi would exceed opts.max_phi_degree (bicubic x bicubic: 54)
  * take the subdivision route instead (ssi/spline.h, spline_*.c; primer 7): sub-patch pairs are
@@ -47,8 +52,9 @@
  * one decides the pair, parameters mapped back to the B-splines (opts.recognise): the rounded
  * conic weights otherwise leave nodes and tangencies (the Steinmetz bicylinder) uncertified.
  *
- * Surfaces that coincide (within tol, or exactly phi = 0) give no curves but a
- * cb_ssi_coincident record with the orientation of their normals.
+ * Surfaces that coincide give no curves but a cb_ssi_coincident record with the orientation
+ * of their normals: exactly (phi = 0, or Q = P reparameterised) or, proved by a rigorous bound,
+ * within tol (ssi_coincide.c); samples only choose which pairs try a proof.
  *
  * Curves are clipped to the faces' parameter boxes; cb_bool_ssi_trim (boolean/bool.h) clips
  * them to the faces' trimming loops. Not done: surfaces of revolution and extrusion. */

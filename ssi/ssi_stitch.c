@@ -815,16 +815,43 @@ cb_status _cb_ssi_stitch(cb_ssi_result_t r, _cb_ssi_stitch_set *sets, slong nset
     /* Patch routes: a piece whose points all stay within CB_SSI_DEGENERATE_PIECE tol of its
      * first one (a curve through a corner of the patch grid, seen by the pairs beside it as a
      * piece of round-off length) is dropped and its ends made one node, within tolerance. */
+    /* Per class: the set of its first end, or -2 when it holds ends of several sets. */
+    slong *cset = NULL;
+    if (!o->closed_form) {
+        cset = malloc((size_t)(2 * ni + 1) * sizeof(slong));
+        if (!cset)
+            st = CB_ERR_NOMEM;
+        for (slong e = 0; e < 2 * ni && cset; e++)
+            cset[e] = -1;
+        for (slong e = 0; e < 2 * ni && cset; e++) {
+            const _cb_ssi_piece *p = it[e / 2].p;
+            if (p->closed || (p->isolated && e % 2))
+                continue;
+            slong rt = uf_find(par, e);
+            cset[rt] = cset[rt] == -1 || cset[rt] == it[e / 2].set ? it[e / 2].set : -2;
+        }
+    }
     for (slong i = 0; i < ni && st == CB_OK && !o->closed_form; i++) {
         const _cb_ssi_piece *p = it[i].p;
         if (p->isolated || p->closed)
             continue;
-        int moves = 0;
-        for (slong k = 1; k < p->n && !moves; k++)
+        int moves = 0, zero = 1;
+        for (slong k = 1; k < p->n && !moves; k++) {
             moves = d3(p->xyz + 3 * k, p->xyz) > CB_SSI_DEGENERATE_PIECE * o->tol;
+            zero &= !memcmp(p->xyz + 3 * k, p->xyz, 3 * sizeof(double));
+        }
         if (moves)
             continue;
         it[i].dropped = 1;
+        /* A piece of no extent at all, one end a vertex of its graph whose class is already
+         * joined to another pair's ends: the curve runs on through that vertex without it (a
+         * curve through a corner of the patch grid, seen by the pair beside it as a single
+         * point); dropped, its other end left out, nothing merged. */
+        int redundant = 0;
+        for (int e = 0; e < 2 && zero; e++)
+            redundant |= p->end[e].vid >= 0 && cset[uf_find(par, 2 * i + e)] == -2;
+        if (redundant)
+            continue;
         double lo[3], hi[3], ba[4], bb[4], diam = 0;
         for (int k = 0; k < 3; k++) {
             lo[k] = HUGE_VAL;
@@ -863,6 +890,7 @@ cb_status _cb_ssi_stitch(cb_ssi_result_t r, _cb_ssi_stitch_set *sets, slong nset
         within[2 * i] = within[2 * i + 1] = 1;
         set_outcome(sets, it[i].set, CB_SSI_WITHIN_TOL);
     }
+    free(cset);
     /* Nodes: classes of open pieces' ends, numbered in order of their first end. */
     slong nn = 0;
     for (slong e = 0; e < 2 * ni; e++)
