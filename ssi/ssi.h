@@ -556,27 +556,34 @@ typedef struct {
 void _cb_ssi_seams(double seam[2][2], const cb_nurbs_surface_struct *s);
 
 /* Joins the pieces of all patch pairs (sets, in pair order; parameters already in the
- * surfaces' domains) into maximal curves appended to r. Nodes, never by distance alone:
+ * surfaces' domains) into maximal curves appended to r. Nodes, never by distance alone
+ * (ssi/ssi_tol.h names each rule and its outcome):
  *   1. ends with the same graph vertex of one pair are one node;
- *   2. ends on one patch-boundary line (P's or Q's, in the domains) whose enclosures overlap
- *      form a candidate group; in it, ends are the same point when certified so (the same
- *      vertex; exact side roots with a common root of their polynomials in both intervals) and
+ *   2. ends on one patch-boundary line (P's or Q's, in the domains; the two end sides of an
+ *      exactly closed B-spline are one line) whose enclosures overlap form a candidate group;
+ *      in it, ends are the same point when certified so (the same vertex; exact side roots
+ *      with a common root of their polynomials in both intervals; equal exact points) and
  *      different points when certified so (different vertices of one pair; no common root);
- *      what is left undecided is joined when it is one end from each side of the line (the
- *      bound-match), and otherwise the group is ambiguous: joined at one node within tolerance
- *      when its 3D box is at most tol across (a NEAR_NODE region), refused (a failure record
- *      with the box) when larger;
- *   3. ends still unjoined and on no decided group, of different pairs, within
- *      CB_SSI_FREE_JOIN tol: joined within tolerance (NEAR_NODE region).
- * A node takes the coordinates of its first end. Chains pass nodes of degree 2. A piece whose
- * two ends are one node and whose points stay within CB_SSI_DEGENERATE_PIECE tol of it is
- * dropped; a piece joining the same two nodes as an earlier one while both lie along one patch
- * side (Q: the side parameter held; P: within CB_SSI_ON_SIDE_EPS) is the same curve found by
- * both neighbours and dropped; an isolated point joined to a node or an earlier point too.
- * With o->closed_form: ends within CB_SSI_CLOSED_FORM_JOIN tol are one node, and a piece with
- * the same nodes as an earlier one whose middle is within chord + that of it is dropped (the
- * closed forms' rule, certified as such). Curves start at their lowest piece, so the output
- * depends only on the order of sets. CB_ERR_NOMEM may leave part of the curves in r. */
+ *      what is left undecided is joined when it is one class on each side of the line (the
+ *      bound-match), and otherwise the group is ambiguous: joined at one node within
+ *      tolerance when its 3D box is at most CB_SSI_NEAR_NODE tol across (a NEAR_NODE region),
+ *      refused (a failure record with the boxes) when larger;
+ *   3. ends still alone and undecided (on no line, or with no candidate on it) joined with the
+ *      ends of other pairs within CB_SSI_FREE_JOIN tol, as an ambiguous group;
+ *   4. a piece whose points stay within CB_SSI_DEGENERATE_PIECE tol of its first is dropped and
+ *      its ends made one node within tolerance, unless it has no extent at all and one end is
+ *      a graph vertex already joined to another pair (dropped, nothing merged).
+ * A node takes the coordinates of its first end. Chains pass nodes of degree 2. A piece
+ * joining the same two nodes as an earlier one while both lie along one patch side (Q: the
+ * side parameter held; P: within CB_SSI_ON_SIDE_EPS) is the same curve found by both
+ * neighbours and dropped; an isolated point joined to a node or an earlier point too. Curves
+ * through a node joined within tolerance have certified = 0; sets[k].outcome says whether a
+ * join touching set k was made within tolerance or refused.
+ * With o->closed_form: ends within CB_SSI_CLOSED_FORM_JOIN tol are one node, a piece that never
+ * leaves its node is dropped, and a piece with the same nodes as an earlier one whose middle is
+ * within chord + that of it is dropped (the closed forms' rule, certified as such). Curves
+ * start at their lowest piece, so the output depends only on the order of sets. CB_ERR_NOMEM
+ * may leave part of the curves in r. */
 cb_status _cb_ssi_stitch(cb_ssi_result_t r, _cb_ssi_stitch_set *sets, slong nsets,
                          const _cb_ssi_stitch_opts *o);
 

@@ -1057,21 +1057,6 @@ static void general_fix(cb_ssi_result_t t, const asurf *q, int side)
     }
 }
 
-static double surf_dist(const asurf *s, const double uv[2], const double X[3])
-{
-    double p[3], d[3];
-    cb_analytic_eval(p, s->a, uv[0], uv[1]);
-    sub(d, p, X);
-    return norm(d);
-}
-
-/* Distances of an output point to both surfaces at its parameters, recorded in r. */
-static void result_dist(cb_ssi_result_t r, const actx *g, const cb_ssi_point *p)
-{
-    r->max_dist_a = fmax(r->max_dist_a, surf_dist(g->s, p->uv_a, p->xyz));
-    r->max_dist_b = fmax(r->max_dist_b, surf_dist(g->s + 1, p->uv_b, p->xyz));
-}
-
 /* The general route. The side whose parameterisation, substituted into the other's equation,
  * gives the lower degree is written as its exact rational B-spline (B on a tie) and the pair
  * runs as analytic/NURBS. The conversion is exact in binary where the angular ranges are whole
@@ -1080,8 +1065,9 @@ static void result_dist(cb_ssi_result_t r, const actx *g, const cb_ssi_point *p)
  * (the paper's Table 4 torus/ellipsoid pairs). When even that degree is 8 or more (torus
  * against torus: phi of bidegree (8, 8), a minute of topology) both are converted and the pair
  * runs as NURBS/NURBS, where the subdivision route takes it. */
-static cb_status general_route(cb_ssi_result_t r, const actx *g, int fa, int fb,
-                               const cb_ssi_opts *opts, cb_error *err)
+static cb_status general_route(cb_ssi_result_t r, const actx *g, const cb_ssi_surface *A,
+                               const cb_ssi_surface *B, int fa, int fb, const cb_ssi_opts *opts,
+                               cb_error *err)
 {
     const cb_analytic_surface *a = g->s[0].a, *b = g->s[1].a;
     int da = implicit_degree(b) * param_degree(a), db = implicit_degree(a) * param_degree(b);
@@ -1140,9 +1126,9 @@ static cb_status general_route(cb_ssi_result_t r, const actx *g, int fa, int fb,
             t->max_dist_a = t->max_dist_b = 0;
             for (slong c = 0; c < t->n_curves; c++)
                 for (slong i = 0; i < t->curve[c].n; i++)
-                    result_dist(t, g, t->curve[c].pt + i);
+                    _cb_ssi_result_measure(t, A, B, t->curve[c].pt + i);
             for (slong k = 0; k < t->n_points; k++)
-                result_dist(t, g, &t->point[k].p);
+                _cb_ssi_result_measure(t, A, B, &t->point[k].p);
             if (_cb_ssi_result_move(r, t) != CB_OK)
                 st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory collecting the "
                                   "general route's result");
@@ -1233,7 +1219,7 @@ cb_status _cb_ssi_analytic_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
     /* Surfaces of the general route that coincide (ellipsoids) are found there by proof: phi
      * identically zero, or bounded within tol (ssi_coincide.c). */
     if (P.general)
-        return general_route(r, &g, face_a, face_b, opts, err);
+        return general_route(r, &g, A, B, face_a, face_b, opts, err);
 
     r->pairs_total++;
     r->pairs_closed_form++;
@@ -1291,8 +1277,8 @@ cb_status _cb_ssi_analytic_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
         return cb_error_set(err, st, "ssi: out of memory building the closed-form curves");
     for (slong c = c0; c < r->n_curves; c++)
         for (slong i = 0; i < r->curve[c].n; i++)
-            result_dist(r, &g, r->curve[c].pt + i);
+            _cb_ssi_result_measure(r, A, B, r->curve[c].pt + i);
     for (slong k = p0; k < r->n_points; k++)
-        result_dist(r, &g, &r->point[k].p);
+        _cb_ssi_result_measure(r, A, B, &r->point[k].p);
     return CB_OK;
 }

@@ -67,7 +67,9 @@
 /* A piece whose points all stay within CB_SSI_DEGENERATE_PIECE tol of its first one (a curve
  * through a corner of the patch grid, or touching a patch side, seen by a neighbouring pair as a
  * piece of round-off length) is dropped and its two ends made one node: within_tolerance, a
- * NEAR_NODE region with the piece's box. */
+ * NEAR_NODE region with the piece's box. A piece of no extent at all (every point the same
+ * double) with an end at a graph vertex that is already joined to another pair's ends is
+ * dropped without merging anything: the curve runs on through that vertex without it. */
 #define CB_SSI_DEGENERATE_PIECE 1.0
 
 /* Two pieces joining the same two nodes are the same curve found by two neighbouring pairs
