@@ -486,21 +486,41 @@ static void difference(double *d, double *len, const cb_bool_cut *k, const doubl
     *len = norm3(e);
 }
 
+/* S_u x S_v of the inverter's surface at (u, v), with S_u and S_v. Where one of the partials
+ * collapses (a pole of a sphere or an apex written as a B-spline: a whole row of its net is one
+ * point) the cross product vanishes or is rounding noise; the normal there is its limit, taken
+ * a small step inside along the other parameter. */
+static void surface_normal(double n[3], double su[3], double sv[3], const cb_topo_inverter *inv,
+                           double u, double v)
+{
+    double dd[6][3];
+    cb_topo_inverter_eval_derivs(dd, inv, u, v);
+    memcpy(su, dd[1], sizeof dd[1]);
+    memcpy(sv, dd[2], sizeof dd[2]);
+    double lu = norm3(dd[1]), lv = norm3(dd[2]);
+    int collapsed = lu <= 1e-9 * lv ? 0 : (lv <= 1e-9 * lu ? 1 : -1);
+    if (collapsed >= 0) {
+        /* step along the parameter that does not collapse, towards the box's middle */
+        int d = 1 - collapsed;
+        double lo = inv->box[2 * d], hi = inv->box[2 * d + 1], x = d ? v : u;
+        double h = 1e-7 * (isfinite(hi - lo) && hi > lo ? hi - lo : 1.0);
+        x += (isfinite(lo) && isfinite(hi) && x > 0.5 * (lo + hi)) ? -h : h;
+        cb_topo_inverter_eval_derivs(dd, inv, d ? u : x, d ? x : v);
+    }
+    n[0] = dd[1][1] * dd[2][2] - dd[1][2] * dd[2][1];
+    n[1] = dd[1][2] * dd[2][0] - dd[1][0] * dd[2][2];
+    n[2] = dd[1][0] * dd[2][1] - dd[1][1] * dd[2][0];
+}
+
 /* Tangents of cut k (see cb_bool_cuts_make). */
 static void tangents(cb_bool_cut *k, const cb_face *const f[2])
 {
     for (int i = 0; i < k->n; i++) {
         double d[6][2][3], n[2][3], chord[3], len;
         difference(chord, &len, k, k->xyz, 3, i);
-        for (int s = 0; s < 2; s++) {
-            double dd[6][3];
-            cb_topo_inverter_eval_derivs(dd, &f[s]->inv, k->uv[s][2 * i], k->uv[s][2 * i + 1]);
-            memcpy(d[1][s], dd[1], sizeof dd[1]);
-            memcpy(d[2][s], dd[2], sizeof dd[2]);
-            n[s][0] = dd[1][1] * dd[2][2] - dd[1][2] * dd[2][1];
-            n[s][1] = dd[1][2] * dd[2][0] - dd[1][0] * dd[2][2];
-            n[s][2] = dd[1][0] * dd[2][1] - dd[1][1] * dd[2][0];
-        }
+        for (int s = 0; s < 2; s++)
+            surface_normal(n[s], d[1][s], d[2][s], &f[s]->inv, k->uv[s][2 * i],
+                           k->uv[s][2 * i + 1]);
         double t[3] = {n[0][1] * n[1][2] - n[0][2] * n[1][1], n[0][2] * n[1][0] - n[0][0] * n[1][2],
                        n[0][0] * n[1][1] - n[0][1] * n[1][0]};
         double tl = norm3(t), cl = norm3(chord);

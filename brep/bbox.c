@@ -263,51 +263,6 @@ static int fit_turn(frame_fit *f, const work_set *w, int k, double pad)
     return 1;
 }
 
-/* Eigenvectors of the symmetric matrix m (overwritten) as the rows of v, by cyclic Jacobi
- * rotations (Golub, Van Loan, Matrix Computations, 4th ed., alg. 8.5.3). Stops when the
- * off-diagonal part is below DBL_EPSILON times the norm of m — beyond that the eigenvectors
- * are as accurate as the data — or after 32 sweeps (convergence is quadratic; a handful
- * suffice). The zero matrix gives the identity. */
-static void sym3_eigenvectors(double v[3][3], double m[3][3])
-{
-    static const int pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
-    double norm2 = 0.0;
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
-            norm2 += m[i][j] * m[i][j];
-            v[i][j] = i == j;
-        }
-    for (int sweep = 0; sweep < 32; sweep++) {
-        double off2 = 2 * (m[0][1] * m[0][1] + m[0][2] * m[0][2] + m[1][2] * m[1][2]);
-        if (off2 <= DBL_EPSILON * DBL_EPSILON * norm2)
-            break;
-        for (int r = 0; r < 3; r++) {
-            int p = pairs[r][0], q = pairs[r][1];
-            if (m[p][q] == 0.0)
-                continue;
-            double tau = (m[q][q] - m[p][p]) / (2 * m[p][q]);
-            double t = (tau >= 0 ? 1.0 : -1.0) / (fabs(tau) + sqrt(1.0 + tau * tau));
-            double c = 1.0 / sqrt(1.0 + t * t), sn = t * c;
-            /* m <- J^T m J and v <- J^T v, J the rotation by (c, sn) in the (p, q) plane. */
-            for (int i = 0; i < 3; i++) {
-                double mp = m[i][p], mq = m[i][q];
-                m[i][p] = c * mp - sn * mq;
-                m[i][q] = sn * mp + c * mq;
-            }
-            for (int j = 0; j < 3; j++) {
-                double mp = m[p][j], mq = m[q][j];
-                m[p][j] = c * mp - sn * mq;
-                m[q][j] = sn * mp + c * mq;
-            }
-            for (int j = 0; j < 3; j++) {
-                double vp = v[p][j], vq = v[q][j];
-                v[p][j] = c * vp - sn * vq;
-                v[q][j] = sn * vp + c * vq;
-            }
-        }
-    }
-}
-
 /* Principal axes of the set about its centroid o. */
 static void frame_principal(double a[3][3], const point_set *s, const double o[3])
 {
@@ -321,7 +276,7 @@ static void frame_principal(double a[3][3], const point_set *s, const double o[3
             for (int c = 0; c < 3; c++)
                 m[r][c] += q[r] * q[c];
     }
-    sym3_eigenvectors(a, m);
+    cb_sym3_eigen(a, m);
     frame_orthonormalize(a);
 }
 

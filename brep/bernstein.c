@@ -14,6 +14,7 @@
  * nothing can fail; the tensor versions apply the one-dimensional map to rows, then columns. */
 #include "brep/nurbs.h"
 
+#include <math.h>
 #include <string.h>
 
 /* c[k * st], k = 0 .. n: Bernstein on [a, b] -> power in t. */
@@ -104,4 +105,49 @@ void cb_power_to_bernstein_2d(double *bern, const double *pow, int m, int n, dou
         power_to_bernstein_strided(bern + (long)i * (n + 1), 1, n, v0, v1);
     for (int j = 0; j <= n; j++)
         power_to_bernstein_strided(bern + j, n + 1, m, u0, u1);
+}
+
+/* C(n, k) in double: exact for the degrees used here (n <= 2 CB_MAX_DEGREE). */
+static double binom(int n, int k)
+{
+    double c = 1.0;
+    for (int i = 1; i <= k; i++)
+        c = c * (n - k + i) / i;
+    return c;
+}
+
+void cb_bernstein_mul_2d(double *out, double *bound, const double *a, const double *b, int m,
+                         int n, int p, int q)
+{
+    int M = m + p, N = n + q;
+    for (int k = 0; k < (M + 1) * (N + 1); k++) {
+        out[k] = 0;
+        if (bound)
+            bound[k] = 0;
+    }
+    /* B_i^m B_k^p = C(m, i) C(p, k) / C(m + p, i + k) B_{i+k}^{m+p}, per direction. */
+    for (int i = 0; i <= m; i++)
+        for (int j = 0; j <= n; j++) {
+            double aij = a[i * (n + 1) + j];
+            if (aij == 0)
+                continue;
+            for (int k = 0; k <= p; k++)
+                for (int l = 0; l <= q; l++) {
+                    double c = binom(m, i) * binom(p, k) / binom(M, i + k) * binom(n, j) *
+                               binom(q, l) / binom(N, j + l);
+                    double t = c * aij * b[k * (q + 1) + l];
+                    out[(i + k) * (N + 1) + j + l] += t;
+                    if (bound)
+                        bound[(i + k) * (N + 1) + j + l] += fabs(t);
+                }
+        }
+    if (bound) {
+        /* Each term went through at most 12 roundings (six binomial factors, their quotients
+         * and products with a and b) and each sum through one per term: relative 2^-53 each,
+         * so (12 + (m+1)(n+1)) 2^-53 (1 + small) bounds the error relative to the sum of the
+         * terms' magnitudes; twice that, to cover the first-order approximation. */
+        double gam = 2.0 * (12 + (m + 1) * (n + 1)) * ldexp(1.0, -53);
+        for (int k = 0; k < (M + 1) * (N + 1); k++)
+            bound[k] *= gam;
+    }
 }

@@ -1,5 +1,6 @@
 #include "brep/geom.h"
 
+#include <float.h>
 #include <string.h>
 
 void cb_xform_identity(cb_xform *x)
@@ -62,4 +63,49 @@ void cb_xform_apply_point(double out[3], const cb_xform *x, const double p[3])
     cb_xform_apply_vector(r, x, p);
     for (int i = 0; i < 3; i++)
         out[i] = r[i] + x->t[i];
+}
+
+/* Eigenvectors of the symmetric matrix m (overwritten) as the rows of v, by cyclic Jacobi
+ * rotations (Golub, Van Loan, Matrix Computations, 4th ed., alg. 8.5.3). Stops when the
+ * off-diagonal part is below DBL_EPSILON times the norm of m — beyond that the eigenvectors
+ * are as accurate as the data — or after 32 sweeps (convergence is quadratic; a handful
+ * suffice). The zero matrix gives the identity. */
+void cb_sym3_eigen(double v[3][3], double m[3][3])
+{
+    static const int pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+    double norm2 = 0.0;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            norm2 += m[i][j] * m[i][j];
+            v[i][j] = i == j;
+        }
+    for (int sweep = 0; sweep < 32; sweep++) {
+        double off2 = 2 * (m[0][1] * m[0][1] + m[0][2] * m[0][2] + m[1][2] * m[1][2]);
+        if (off2 <= DBL_EPSILON * DBL_EPSILON * norm2)
+            break;
+        for (int r = 0; r < 3; r++) {
+            int p = pairs[r][0], q = pairs[r][1];
+            if (m[p][q] == 0.0)
+                continue;
+            double tau = (m[q][q] - m[p][p]) / (2 * m[p][q]);
+            double t = (tau >= 0 ? 1.0 : -1.0) / (fabs(tau) + sqrt(1.0 + tau * tau));
+            double c = 1.0 / sqrt(1.0 + t * t), sn = t * c;
+            /* m <- J^T m J and v <- J^T v, J the rotation by (c, sn) in the (p, q) plane. */
+            for (int i = 0; i < 3; i++) {
+                double mp = m[i][p], mq = m[i][q];
+                m[i][p] = c * mp - sn * mq;
+                m[i][q] = sn * mp + c * mq;
+            }
+            for (int j = 0; j < 3; j++) {
+                double mp = m[p][j], mq = m[q][j];
+                m[p][j] = c * mp - sn * mq;
+                m[q][j] = sn * mp + c * mq;
+            }
+            for (int j = 0; j < 3; j++) {
+                double vp = v[p][j], vq = v[q][j];
+                v[p][j] = c * vp - sn * vq;
+                v[q][j] = sn * vp + c * vq;
+            }
+        }
+    }
 }

@@ -54,4 +54,10 @@ void cb_xform_compose(cb_xform *out, const cb_xform *a, const cb_xform *b);
 void cb_xform_apply_point(double out[3], const cb_xform *x, const double p[3]);
 void cb_xform_apply_vector(double out[3], const cb_xform *x, const double v[3]);
 
+/* Eigenvectors of the symmetric 3 x 3 matrix m as the rows of v; m is overwritten by the
+ * diagonalised matrix, whose diagonal m[i][i] is the eigenvalue of row i of v. Cyclic Jacobi
+ * rotations to DBL_EPSILON of the norm of m (at most 32 sweeps); the zero matrix gives the
+ * identity. */
+void cb_sym3_eigen(double v[3][3], double m[3][3]);
+
 #endif

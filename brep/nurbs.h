@@ -170,5 +170,12 @@ void cb_bernstein_to_power_2d(double *pow, const double *bern, int m, int n, dou
                               double u1, double v0, double v1);
 void cb_power_to_bernstein_2d(double *bern, const double *pow, int m, int n, double u0,
                               double u1, double v0, double v1);
+/* Product of two tensor Bernstein polynomials on one box: a of bidegree (m, n) and b of
+ * bidegree (p, q) ((m + 1) x (n + 1) and (p + 1) x (q + 1) coefficients, u outer) give out of
+ * bidegree (m + p, n + q). bound (may be NULL) receives per coefficient a bound on the
+ * round-off of the computed value, so that the exact product's coefficient lies within
+ * bound[k] of out[k] when a and b are taken as exact. out must not alias a or b. */
+void cb_bernstein_mul_2d(double *out, double *bound, const double *a, const double *b, int m,
+                         int n, int p, int q);
 
 #endif

@@ -28,7 +28,13 @@
  * a loop along a line of the surface that collapses to one point) is one 3D vertex: the
  * triangles that would join two of its (u, v) copies are dropped. A loop may close along such
  * a line, and a coedge that starts on it where the previous one ended keeps its pcurve's place
- * (the two seam coedges of a sphere face leave the pole at u = 2 pi and return at u = 0). Triangles are oriented
+ * (the two seam coedges of a sphere face leave the pole at u = 2 pi and return at u = 0), as
+ * does a boundary sample at the pole (its inversion may slide along the line). The pole line
+ * gets copies of the pole, one per angle_tol of the turn it spans, so the triangles near the
+ * pole corner there; and after refinement a triangle whose pole corner lies, along the line,
+ * beyond both its other corners (in space it turns back round the pole and folds over its
+ * neighbours: thin triangles along a cone's seam near the apex) is flipped out of the pole's
+ * fan. Triangles are oriented
  * counter-clockwise in (u, v) when the face's same_sense is 1 (normal S_u x S_v), clockwise
  * otherwise, so a correctly oriented closed shell gives an outward mesh.
  *
@@ -39,9 +45,9 @@
  * surface has that line's plane for its normal, whatever the surface's).
  *
  * Limits. A loop that wraps around a periodic surface without a seam edge (a cylinder band
- * bounded by two circles only) and a face without loops (a whole sphere or torus) are refused
- * with CB_ERR_UNSUPPORTED naming the face: STEP writers and brep/prim.h cut such faces along
- * seams. Coedges without a pcurve are placed by inverting their samples on the surface, each
+ * bounded by two circles only) and a face without loops are refused with CB_ERR_UNSUPPORTED
+ * naming the face: brep/prim.h cuts such faces along seams, and the STEP reader gives a whole
+ * sphere or torus written without edges its seams (cb_topo_close_faces). Coedges without a pcurve are placed by inverting their samples on the surface, each
  * from the previous one, which is right for surfaces without periods; but edge sampling then
  * cannot see the faces' surfaces, so compute pcurves first (cb_topo_compute_pcurves: the
  * hummingbird needs it; STEP import does it).

@@ -173,6 +173,14 @@ static int flippable(const cb_tess_cdt *d, int t, int i)
            cb_tess_orient2d(pt(d, p), pt(d, q), pt(d, b)) > 0;
 }
 
+int cb_tess_cdt_flip(cb_tess_cdt *d, int t, int i)
+{
+    if (!flippable(d, t, i) || !d->t[d->t[t].n[i]].in != !d->t[t].in)
+        return 0;
+    flip(d, t, i);
+    return 1;
+}
+
 /* Whether the edge opposite v[i] of t violates the Delaunay property. */
 static int illegal(const cb_tess_cdt *d, int t, int i)
 {

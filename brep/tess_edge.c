@@ -108,13 +108,16 @@ static double side_deviation(const edge_job *j, double ta, double tb, double *mi
             m[i] = 0.5 * (da[0][i] + db[0][i]);
         worst = fmax(worst, cb_vec3_dist(p, m));
         /* The surface normal turning along the piece: the faces' triangles on this side
-         * could not follow it, as their boundary corners are these samples. */
+         * could not follow it, as their boundary corners are these samples. Not at a pole or
+         * apex, where one derivative vanishes against the other (to rounding, on a B-spline's
+         * collapsed row: its normal there is noise, which halved a cone's seam down to the
+         * chord tolerance towards the apex and left slivers there). */
         double na[3], nb[3];
         cb_vec3_cross(na, da[1], da[2]);
         cb_vec3_cross(nb, db[1], db[2]);
         double la = cb_vec3_norm(na), lb = cb_vec3_norm(nb);
-        if (la > 1e-10 * cb_vec3_norm(da[1]) * cb_vec3_norm(da[2]) &&
-            lb > 1e-10 * cb_vec3_norm(db[1]) * cb_vec3_norm(db[2]))
+        if (la > 1e-9 * (cb_vec3_dot(da[1], da[1]) + cb_vec3_dot(da[2], da[2])) &&
+            lb > 1e-9 * (cb_vec3_dot(db[1], db[1]) + cb_vec3_dot(db[2], db[2])))
             *min_cos = fmin(*min_cos, cb_vec3_dot(na, nb) / (la * lb));
     }
     return worst;

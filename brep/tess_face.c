@@ -30,12 +30,21 @@ void cb_tess_face_mesh_clear(cb_tess_face_mesh *fm)
 
 /* ---------------------------------------------------------------- boundary loops ----------- */
 
+/* A line of the surface that collapses to the shared sample id (a pole, an apex), from a to z
+ * in (u, v) (unscaled in face_loops, scaled in face_work). */
+typedef struct {
+    double a[2], z[2];
+    int id;
+} pole_line;
+
 typedef struct {
     double *uv; /* 2 per point, unscaled parameters */
     int *id;    /* shared sample */
     int n, cap;
     int *loop_end; /* loop k is [loop_end[k - 1], loop_end[k]) */
     int n_loops;
+    pole_line *poles;
+    int n_poles;
 } face_loops;
 
 static void loops_clear(face_loops *L)
@@ -43,6 +52,7 @@ static void loops_clear(face_loops *L)
     free(L->uv);
     free(L->id);
     free(L->loop_end);
+    free(L->poles);
 }
 
 static int loops_push(face_loops *L, const double uv[2], int id)
@@ -82,6 +92,15 @@ static int lifted_onto(double shift[2], const double a[2], const double b[2],
         c[i] = a[i] + shift[i];
     }
     return (shift[0] != 0 || shift[1] != 0) && same_uv(c, b);
+}
+
+/* Whether a derivative of the surface vanishes at (u, v) against the other: a pole or apex. */
+static int at_pole(const cb_topo_inverter *inv, const double uv[2])
+{
+    double d[6][3];
+    cb_topo_inverter_eval_derivs(d, inv, uv[0], uv[1]);
+    double a = cb_vec3_norm(d[1]), b = cb_vec3_norm(d[2]);
+    return a <= 1e-9 * b || b <= 1e-9 * a;
 }
 
 /* Appends the samples of coedge c in traversal order, placed in (u, v). */
@@ -133,6 +152,13 @@ static cb_status coedge_points(face_loops *L, const cb_topo_body *b, int c,
             g = prev;
         }
         cb_topo_inverter_invert(uv, inv, P, g);
+        if (pc && at_pole(inv, g) && cb_topo_inverter_spread(inv, g, uv) <= gap_tol) {
+            /* At a pole the inversion slides along the collapsed line towards a vertex a
+             * rounding error off the pole (a Boolean's, where a box edge meets the pole): the
+             * pcurve's place on the line is the one the loop runs through. */
+            uv[0] = g[0];
+            uv[1] = g[1];
+        }
         if (!(isfinite(uv[0]) && isfinite(uv[1])))
             return cb_error_set(err, CB_ERR_NUMERIC, "coedge %d: sample %d has no (u, v)", c,
                                 k);
@@ -204,6 +230,66 @@ static cb_status build_loops(face_loops *L, const cb_topo_body *b, int face,
     return CB_OK;
 }
 
+/* Most pole copies put on one pole line. */
+#define POLE_MAX_COPIES 256
+static const double TWO_PI = 6.283185307179586;
+
+/* Finds the pole lines of the loops (consecutive points of one sample at different (u, v)
+ * whose segment collapses on the surface: a loop's jump along a pole, a collapsed edge) and
+ * puts copies of the pole sample along each, one per angle_tol of the turn the line spans
+ * (its length over the period, or over the domain, times 2 pi). Round the pole the mesh must
+ * turn as u runs along the line; copies spread along it give the triangles near the pole
+ * corners there from the start, where two ends alone would join everything near the pole
+ * to one end (see pole_fold for what that does). */
+static cb_status densify_poles(face_loops *L, const cb_topo_inverter *inv, double angle_tol,
+                               double gap_tol, cb_error *err)
+{
+    face_loops N = {0};
+    N.loop_end = malloc((size_t)(L->n_loops + 1) * sizeof(int));
+    if (!N.loop_end)
+        return cb_error_set(err, CB_ERR_NOMEM, "out of memory");
+    int cap_poles = 0;
+    for (int l = 0, start = 0; l < L->n_loops; start = L->loop_end[l++]) {
+        for (int k = start; k < L->loop_end[l]; k++) {
+            int next = k + 1 < L->loop_end[l] ? k + 1 : start;
+            const double *a = L->uv + 2 * k, *z = L->uv + 2 * next;
+            if (!loops_push(&N, a, L->id[k]))
+                goto nomem;
+            if (L->id[k] != L->id[next] || same_uv(a, z) ||
+                cb_topo_inverter_spread(inv, a, z) > gap_tol)
+                continue;
+            if (N.n_poles == cap_poles) {
+                cap_poles = cap_poles ? 2 * cap_poles : 4;
+                pole_line *np = realloc(N.poles, (size_t)cap_poles * sizeof *np);
+                if (!np)
+                    goto nomem;
+                N.poles = np;
+            }
+            N.poles[N.n_poles++] = (pole_line){{a[0], a[1]}, {z[0], z[1]}, L->id[k]};
+            double turn = 0;
+            for (int i = 0; i < 2; i++) {
+                double ext = inv->period[i] > 0 ? inv->period[i]
+                                                : inv->box[2 * i + 1] - inv->box[2 * i];
+                if (isfinite(ext) && ext > 0)
+                    turn = fmax(turn, TWO_PI * fabs(z[i] - a[i]) / ext);
+            }
+            int n = (int)fmin(ceil(turn / angle_tol), POLE_MAX_COPIES);
+            for (int j = 1; j < n; j++) {
+                double uv[2] = {a[0] + (z[0] - a[0]) * j / n, a[1] + (z[1] - a[1]) * j / n};
+                if (!loops_push(&N, uv, L->id[k]))
+                    goto nomem;
+            }
+        }
+        N.loop_end[N.n_loops++] = N.n;
+    }
+    loops_clear(L);
+    *L = N;
+    return CB_OK;
+nomem:
+    loops_clear(&N);
+    return cb_error_set(err, CB_ERR_NOMEM, "out of memory");
+}
+
 /* ---------------------------------------------------------------- refinement --------------- */
 
 typedef struct {
@@ -222,6 +308,8 @@ typedef struct {
     int *gid;      /* per triangulation point: shared sample, -1 own point, -2 enclosing */
     double *xyz;   /* per point, 3D */
     int cap;
+    const pole_line *poles; /* scaled (u, v) */
+    int n_poles;
 } face_work;
 
 static void work_clear(face_work *w)
@@ -389,6 +477,78 @@ static int collapsed(const face_work *w, const double a[2], const double b[2], c
     double m[3];
     cb_topo_inverter_eval(m, w->inv, 0.5 * (a[0] + b[0]) / w->su, 0.5 * (a[1] + b[1]) / w->sv);
     return cb_vec3_dist(m, p) <= w->o->chord_tol;
+}
+
+/* Whether triangle t turns the wrong way round a pole in space: the corner k (0 .. 2) that is
+ * a copy of the pole, with depth[0], depth[1] the distances of the next two corners from the
+ * pole line; -1 when t is no such triangle. Near a pole the surface is polar: a point's angle
+ * round the pole is its position along the pole line, its distance from the pole its
+ * distance from the line. A triangle (c, p, q), c a copy of the pole, is in space the pole's
+ * fan piece from p to q, whatever c's place on the line: it turns round the pole as
+ * (c', p, q) turns in (u, v), c' the point of the line at the middle of p's and q's positions
+ * along it. When (c', p, q) turns the other way than (c, p, q), c lies beyond both along the
+ * line and the piece folds back over its neighbours in space (thin triangles along a cone's
+ * seam, whose corners near the apex the triangulation ordered by direction from c in (u, v)
+ * rather than by position along the line: OCCT's B-spline cone against a box crossed itself
+ * there). */
+static int pole_fold(const face_work *w, int t, double depth[2])
+{
+    const cb_tess_tri *T = &w->d.t[t];
+    for (int k = 0; k < 3; k++) {
+        int c = T->v[k], p = T->v[(k + 1) % 3], q = T->v[(k + 2) % 3], g = w->gid[c];
+        if (g < 0 || w->gid[p] == g || w->gid[q] == g)
+            continue;
+        const double *C = w->d.p + 2 * c, *P = w->d.p + 2 * p, *Q = w->d.p + 2 * q;
+        for (int j = 0; j < w->n_poles; j++) {
+            const pole_line *pl = &w->poles[j];
+            if (pl->id != g)
+                continue;
+            double d[2] = {pl->z[0] - pl->a[0], pl->z[1] - pl->a[1]}, len = hypot(d[0], d[1]);
+            if (!(len > 0))
+                continue;
+            d[0] /= len;
+            d[1] /= len;
+            /* c on this line: its distance across it and its position along it. */
+            double across = (C[0] - pl->a[0]) * d[1] - (C[1] - pl->a[1]) * d[0];
+            double sc = (C[0] - pl->a[0]) * d[0] + (C[1] - pl->a[1]) * d[1];
+            if (fabs(across) > 1e-9 * len || sc < -1e-9 * len || sc > len * (1 + 1e-9))
+                continue;
+            double sp = (P[0] - pl->a[0]) * d[0] + (P[1] - pl->a[1]) * d[1];
+            double sq = (Q[0] - pl->a[0]) * d[0] + (Q[1] - pl->a[1]) * d[1];
+            double sm = 0.5 * (sp + sq), m[2] = {pl->a[0] + sm * d[0], pl->a[1] + sm * d[1]};
+            /* (corners at one place along the line: in space on one ruling with the pole, a
+             * triangle of no area) */
+            if (cb_tess_orient2d(m, P, Q) > 0 && fabs(sp - sq) > 1e-12 * len)
+                return -1;
+            depth[0] = fabs((P[0] - pl->a[0]) * d[1] - (P[1] - pl->a[1]) * d[0]);
+            depth[1] = fabs((Q[0] - pl->a[0]) * d[1] - (Q[1] - pl->a[1]) * d[0]);
+            return k;
+        }
+    }
+    return -1;
+}
+
+/* Flips the folded pole triangles (pole_fold) out of the pole's fans: of t = (c, p, q), the
+ * edge from c to the corner farther from the pole, or failing that to the other (when the
+ * quad round it is convex), so that corner leaves c's fan and the nearer one stays, which is
+ * how the pole's neighbours follow each other round it in space. Each flip takes one
+ * triangle from a pole's fan, so this ends; a fold no flip can remove is left as it is. */
+static void untangle_poles(face_work *w)
+{
+    for (int changed = 1, round = 0; changed && round < 1000; round++) {
+        changed = 0;
+        for (int t = 0; t < w->d.nt; t++) {
+            double depth[2];
+            int k = w->d.t[t].in ? pole_fold(w, t, depth) : -1;
+            if (k < 0)
+                continue;
+            /* The edge c-p is the side opposite q, c-q the side opposite p. */
+            int far = depth[0] >= depth[1] ? (k + 2) % 3 : (k + 1) % 3;
+            int near = far == (k + 2) % 3 ? (k + 1) % 3 : (k + 2) % 3;
+            if (cb_tess_cdt_flip(&w->d, t, far) || cb_tess_cdt_flip(&w->d, t, near))
+                changed = 1;
+        }
+    }
 }
 
 /* Where triangle t must be split, if at all: -1 nowhere; 0 .. 2 at the (u, v) midpoint of its
@@ -700,12 +860,25 @@ static cb_status face_run(cb_tess_face_mesh *fm, const cb_topo_body *b, int face
          * crease of the surface (a C0 knot line) would never end. */
         w.min_side = 0.1 * o->chord_tol;
         w.min_normal_width = 2 * o->chord_tol;
-        st = unify_pinches(&L, w.su, w.sv, b->tol > 0 ? b->tol : 1e-9 * o->chord_tol, err);
+        st = densify_poles(&L, inv, o->angle_tol, fmax(o->chord_tol, b->tol), err);
+        for (int k = 0; k < L.n_poles; k++) {
+            pole_line *pl = &L.poles[k];
+            pl->a[0] *= w.su;
+            pl->z[0] *= w.su;
+            pl->a[1] *= w.sv;
+            pl->z[1] *= w.sv;
+        }
+        w.poles = L.poles;
+        w.n_poles = L.n_poles;
+        if (!st)
+            st = unify_pinches(&L, w.su, w.sv, b->tol > 0 ? b->tol : 1e-9 * o->chord_tol, err);
         if (!st)
             st = triangulate(&w, &L, err);
     }
     if (!st)
         st = refine(&w, ctx, err);
+    if (!st)
+        untangle_poles(&w);
     if (!st)
         st = emit(fm, &w, es->n_points, F->same_sense, err);
     loops_clear(&L);

@@ -57,6 +57,13 @@ cb_status cb_tess_cdt_insert(cb_tess_cdt *d, double x, double y, int avoid_const
  * splits it in two. CB_ERR_NUMERIC when recovery stalls, CB_ERR_NOMEM. */
 cb_status cb_tess_cdt_constrain(cb_tess_cdt *d, int a, int b, cb_error *err);
 
+/* Flips the edge opposite v[i] of triangle t, when it is unconstrained, its neighbour lies on
+ * the same side of the domain boundary and the quad is strictly convex (both new triangles
+ * counter-clockwise): t = (p, a, b) and its neighbour (q, b, a) become t = (p, a, q) and
+ * (p, q, b). Returns 1 when flipped, else 0 and nothing changes. The triangulation stays valid
+ * but need not stay Delaunay. */
+int cb_tess_cdt_flip(cb_tess_cdt *d, int t, int i);
+
 /* Flips every unconstrained edge that is not locally Delaunay until none is left (or a pass
  * limit is reached: the result is a valid triangulation either way). */
 void cb_tess_cdt_delaunay(cb_tess_cdt *d);

@@ -107,8 +107,8 @@ double cb_topo_projector_distance(const cb_topo_projector *pr, const double p[3]
 #define CB_TOPO_MAX_STARTS 8
 
 /* The (u, v) of the max (<= CB_TOPO_MAX_STARTS) grid samples nearest p, nearest first, as
- * starting points of a local search; returns how many there are. Needs a sample grid
- * (pr->grid not NULL). */
+ * starting points of a local search; returns how many there are. Samples at one point of
+ * space (a collapsed row: a pole) give one start. Needs a sample grid (pr->grid not NULL). */
 int cb_topo_projector_starts(double (*uv)[2], int max, const cb_topo_projector *pr,
                              const double p[3]);
 
@@ -232,6 +232,42 @@ void cb_topo_body_edge_box(cb_aabb *box, const cb_topo_body *b);
 /* Counts of faces by surface type name, in order of first appearance: names[k] (static
  * strings) and counts[k] for k < return value (at most 8 types exist). */
 int cb_topo_body_surface_types(const char *names[8], int counts[8], const cb_topo_body *b);
+
+/* Faces that cover their whole closed surface. CAD systems write a whole sphere or torus as
+ * one face without edges: bounded by a VERTEX_LOOP only (Open CASCADE, and with the vertex on
+ * a torus, other systems too) or by no bound at all. Colibri bounds every face by loops of
+ * edges, as cb_prim_sphere lays out a sphere: this gives each face without a loop the
+ * boundary of its surface's natural domain, so that validation, pcurves, tessellation, mass,
+ * point classification, the SSI's face bounds, the Booleans (which split such a face like
+ * any other) and the STEP writer need nothing of their own for it:
+ *   - a surface closed in one direction whose two ends in the other collapse to points (the
+ *     sphere and ellipsoid, analytic, as B-splines, revolved): one seam edge, the line of the
+ *     surface at the start of the closed direction from pole to pole, two vertices (the
+ *     poles), the loop [seam, seam reversed] (the pole lines are jumps of the loop);
+ *   - a surface closed in both directions (torus): two seam edges, the lines at the start of
+ *     each direction, through one vertex, the loop [along u, along v, along u reversed, along
+ *     v reversed] when the face's normal is the surface's (counter-clockwise round the domain
+ *     in (u, v)), [along v, along u, along v reversed, along u reversed] otherwise.
+ * The seams are exact curves parameterised by the surface parameter they run along (conics for
+ * the analytic surfaces, the boundary row of control points of a B-spline, the profile of a
+ * revolution or its parallel), checked to lie within tol of the surface; each edge gets tol as
+ * its tolerance. A face without a loop on any other surface (an open one: a plane, a cylinder)
+ * is left as it is, and validation reports it.
+ * A torus face bounded by its two seams alone, each used twice by its one loop (as Open
+ * CASCADE writes a whole torus), gets the same boundary: its seams, vertex and coedges are
+ * rewritten in place (their curves, ranges, order and pcurves; the seams must be used by
+ * nothing else). The file's order of the four coedges, all at one vertex, chained clockwise in
+ * (u, v) for a face whose normal is the surface's (its volume came out negative), and its
+ * seams' parameter ranges and pcurves, lifted by a period, broke the Booleans' split of the
+ * face where a cut crosses a seam.
+ * The new coedges get their pcurves: the exact lines of the seam's two copies in (u, v), the
+ * face to the left of each coedge when same_sense is 1 (a pcurve computed by inverting a
+ * B-spline seam lands a rounding error off the domain's end, which puts the seam's two copies
+ * less than a period apart). Appends entities (the incidence index must be rebuilt).
+ * *closed counts the faces changed (may be NULL). A seam that cannot be made (not expected:
+ * the curve found off its surface) leaves its face as it was. Errors: CB_ERR_NOMEM naming the
+ * face. */
+cb_status cb_topo_close_faces(cb_topo_body *b, double tol, int *closed, cb_error *err);
 
 /* ---------------------------------------------------------------- parameter space ---------- */
 

@@ -895,36 +895,122 @@ static int seam_partner(const cb_topo_body *b, int c)
     return -1;
 }
 
+/* Whether the line of the surface through (u, v) = p along a periodic direction collapses to
+ * a point (a pole): the half turn from p stays within tol of S(p). */
+static int at_pole(const cb_topo_inverter *inv, const double p[2], double tol)
+{
+    for (int i = 0; i < 2; i++) {
+        double q[2] = {p[0], p[1]};
+        q[i] += 0.5 * inv->period[i];
+        if (inv->period[i] > 0 && cb_topo_inverter_spread(inv, p, q) <= tol)
+            return 1;
+    }
+    return 0;
+}
+
+/* Moves the fresh pcurves of loop l's coedges in chain k by (du, dv). */
+static void shift_chain(job *j, int l, const int *chain, int k, const double sh[2])
+{
+    const cb_topo_loop *lp = &j->b->loops[l];
+    for (int m = 0; m < lp->count; m++) {
+        int c = lp->first + m;
+        if (chain[m] == k && j->fresh[c] && !j->degenerate[c])
+            shift_curve(&j->b->pcurves[j->b->coedges[c].pcurve], sh[0], sh[1]);
+    }
+}
+
+/* The periodic direction across seam coedge c (the one its pcurve does not run along), and
+ * the side of c the face lies on in it: +1 when the face lies to the left of c in (u, v) and
+ * that left points up that direction (same_sense 1; the right for same_sense 0), else -1. */
+static int seam_side(const job *j, int c, const cb_topo_inverter *inv, int *dir)
+{
+    double s0[2], s1[2];
+    coedge_uv(s0, j->b, c, 0);
+    coedge_uv(s1, j->b, c, 1);
+    *dir = inv->period[0] > 0 && fabs(s1[0] - s0[0]) <= fabs(s1[1] - s0[1]) ? 0 : 1;
+    double d[2] = {s1[0] - s0[0], s1[1] - s0[1]}, left[2] = {-d[1], d[0]};
+    int same = j->b->faces[j->b->loops[j->b->coedges[c].loop].face].same_sense;
+    return (same ? 1 : -1) * left[*dir] > 0 ? 1 : -1;
+}
+
 /* Makes the new pcurves of loop l continuous (each starts where the previous ends), puts the
- * two uses of a seam edge on its two sides, and lifts the loop into the first period. */
-static void settle_loop(job *j, int l)
+ * two uses of a seam edge on its two sides, and lifts the loop into the first period.
+ * The loop falls into chains joined at poles (joints where a periodic line of the surface
+ * collapses) and at collapsed edges, across which nothing fixes the lift. A seam edge
+ * used in two chains puts the second chain a period away from the first, on the side where
+ * the face lies of each use (the face lies on both sides of its seam), so that all chains
+ * agree: a sphere face cut along a circle through both of its seam's pieces (a Boolean's
+ * result read back: [seam, arc, seam, seam, arc, seam]) had each pair moved on its own, its
+ * chains two periods apart, and bounded the cap instead of the rest. Returns CB_ERR_NOMEM. */
+static cb_status settle_loop(job *j, int l)
 {
     cb_topo_body *b = j->b;
     const cb_topo_loop *lp = &b->loops[l];
     const cb_topo_inverter *inv = face_inverter(j, lp->first);
-    int anchor = 0;
-    for (int k = 0; k < lp->count; k++) {
-        int c = lp->first + k;
-        if (!j->degenerate[c] && seam_partner(b, c) < 0) {
+    int *chain = malloc((size_t)(2 * lp->count + 1) * sizeof *chain), *placed = chain + lp->count;
+    if (!chain)
+        return CB_ERR_NOMEM;
+    /* The walk starts at a pcurve from the file, so the new ones join it, or else at one that
+     * is no seam. */
+    int anchor = -1, n_chains = 0;
+    for (int k = 0; k < lp->count && anchor < 0; k++)
+        if (!j->fresh[lp->first + k] && !j->degenerate[lp->first + k])
             anchor = k;
-            break;
-        }
+    for (int k = 0; k < lp->count && anchor < 0; k++) {
+        int c = lp->first + k;
+        if (!j->degenerate[c] && seam_partner(b, c) < 0)
+            anchor = k;
     }
+    if (anchor < 0)
+        anchor = 0;
     double prev[2];
     int have_prev = 0;
     for (int m = 0; m < lp->count; m++) {
-        int c = lp->first + (anchor + m) % lp->count;
-        if (j->degenerate[c])
+        int k = (anchor + m) % lp->count, c = lp->first + k;
+        chain[k] = -1;
+        if (j->degenerate[c]) {
+            have_prev = 0;
             continue;
+        }
+        double start[2];
+        coedge_uv(start, b, c, 0);
+        if (!have_prev || at_pole(inv, prev, j->tol))
+            placed[n_chains++] = 0;
+        chain[k] = n_chains - 1;
         if (have_prev && j->fresh[c]) {
-            double start[2], sh[2];
-            coedge_uv(start, b, c, 0);
+            double sh[2];
             joint_shift(sh, inv, prev, start, j->tol);
             shift_curve(&b->pcurves[b->coedges[c].pcurve], sh[0], sh[1]);
         }
         coedge_uv(prev, b, c, 1);
         have_prev = 1;
     }
+    /* Chains holding a pcurve from the file stay where the file put them. */
+    for (int k = 0; k < lp->count; k++)
+        if (chain[k] >= 0 && (!j->fresh[lp->first + k] || chain[k] == chain[anchor]))
+            placed[chain[k]] = 1;
+    for (int progress = 1; progress;) {
+        progress = 0;
+        for (int k = 0; k < lp->count; k++) {
+            int c = lp->first + k, o = seam_partner(b, c);
+            if (chain[k] < 0 || !placed[chain[k]] || o < 0 || b->coedges[o].loop != l)
+                continue;
+            int ko = o - lp->first, dir;
+            if (chain[ko] < 0 || placed[chain[ko]])
+                continue;
+            int side = seam_side(j, o, inv, &dir);
+            double a[2], z[2], P = inv->period[dir], sh[2] = {0, 0};
+            coedge_uv(a, b, c, 0);
+            coedge_uv(z, b, o, 0);
+            /* o on the low side of its seam when the face lies above it. */
+            double target = a[dir] - side * P;
+            sh[dir] = P * round((target - z[dir]) / P);
+            shift_chain(j, l, chain, chain[ko], sh);
+            placed[chain[ko]] = 1;
+            progress = 1;
+        }
+    }
+    free(chain);
     /* Seam uses still on one side: move the later one across, towards its neighbours. */
     for (int m = 0; m < lp->count; m++) {
         int c = lp->first + (anchor + m) % lp->count, o = seam_partner(b, c);
@@ -970,7 +1056,11 @@ static void settle_loop(job *j, int l)
         sh[dir] = sign * P;
         shift_curve(&b->pcurves[b->coedges[o].pcurve], sh[0], sh[1]);
     }
-    /* Lift the loop so the middle of its range lies in the first period. */
+    /* Lift the loop so the middle of its range lies in the first period, unless it holds
+     * pcurves from the file, to which the new ones were joined. */
+    for (int k = 0; k < lp->count; k++)
+        if (!j->fresh[lp->first + k] && !j->degenerate[lp->first + k])
+            return CB_OK;
     double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
     for (int k = 0; k < lp->count; k++)
         for (int end = 0; end < 2; end++) {
@@ -995,6 +1085,7 @@ static void settle_loop(job *j, int l)
         if (j->fresh[c] && !j->degenerate[c])
             shift_curve(&b->pcurves[b->coedges[c].pcurve], sh[0], sh[1]);
     }
+    return CB_OK;
 }
 
 static cb_status copy_curve(cb_topo_curve *dst, const cb_topo_curve *src, cb_error *err)
@@ -1074,8 +1165,8 @@ cb_status cb_topo_compute_pcurves(cb_topo_body *b, double tol, cb_error *err)
         int any = 0;
         for (int k = 0; k < b->loops[l].count; k++)
             any |= j.fresh[b->loops[l].first + k];
-        if (any)
-            settle_loop(&j, l);
+        if (any && settle_loop(&j, l))
+            st = cb_error_set(err, CB_ERR_NOMEM, "pcurves: out of memory");
     }
     for (int c = 0; c < b->n_coedges && !st; c++) {
         if (!j.degenerate[c])

@@ -109,7 +109,20 @@ int cb_topo_projector_starts(double (*uv)[2], int max, const cb_topo_projector *
         dist[k] = HUGE_VAL;
     }
     for (int k = 0; k < pr->nu * pr->nv; k++) {
-        double d = cb_vec3_dist(pr->grid + 3 * (size_t)k, p);
+        const double *g = pr->grid + 3 * (size_t)k;
+        double d = cb_vec3_dist(g, p);
+        if (!(d < dist[max - 1]))
+            continue;
+        /* A point sampled many times (a pole row, a degenerate side) gives at most two
+         * starts: its starts differ only in a parameter Newton cannot move there (S_u vanishes
+         * at a pole), and would crowd out the samples beside them, so a point near the pole
+         * was never searched for beyond it. Two, so that a seam's two lifts both stay. */
+        int dup = 0;
+        for (int j = 0; j < max && idx[j] >= 0; j++)
+            dup += cb_vec3_dist(pr->grid + 3 * (size_t)idx[j], g) <=
+                   1e-13 * (1.0 + cb_vec3_norm(g));
+        if (dup >= 2)
+            continue;
         for (int j = 0; j < max; j++)
             if (d < dist[j]) {
                 for (int m = max - 1; m > j; m--) {

@@ -9,8 +9,11 @@
  * or rational), SURFACE_CURVE / SEAM_CURVE / INTERSECTION_CURVE through their 3D curve, and the
  * PCURVEs these carry (2D lines, conics and B-splines), attached to the coedge of the face on
  * their surface. Unclamped B-spline knot vectors are clamped exactly by knot insertion.
- * Entities the mapping does not reach are skipped. A VERTEX_LOOP bound (a cone apex) is
- * skipped too: it carries no edge.
+ * Entities the mapping does not reach are skipped. A VERTEX_LOOP bound (a pole or an apex
+ * inside a face) is skipped too: it carries no edge. A face left with no loop (a whole sphere
+ * or torus, written with a VERTEX_LOOP only or with no bound at all) gets the seams and poles
+ * of its closed surface (cb_topo_close_faces), and a torus face bounded by its two seams has
+ * its loop put in the order the other routines read (ibid.).
  *
  * Units: coordinates stay in the file's length unit; body->length_unit_mm gives its size
  * (SI_UNIT with any prefix, or CONVERSION_BASED_UNIT such as INCH). Angles are converted to

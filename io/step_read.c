@@ -68,6 +68,8 @@ static cb_status read_loaded(cb_topo_body **out, step_file *f, const cb_step_opt
     }
     if (!st)
         st = step_map_body(f);
+    if (!st && (st = cb_topo_close_faces(f->body, f->body->tol, NULL, f->err)))
+        cb_error_prefix(f->err, "%s: ", f->path);
     if (!st)
         st = cb_topo_body_index(f->body, f->err);
     if (!st)

@@ -218,9 +218,39 @@ static void pcurve_end(double uv[3], const cb_topo_body *b, int p, const cb_topo
     cb_topo_curve_eval(uv, &b->pcurves[p], at_t1 ? e->t1 : e->t0);
 }
 
+/* Which of the two pcurves p[0], p[1] of a seam lies on the side of coedge c: 0 or 1, or -1
+ * when they are not two copies of one line across the seam. The two are translates of each
+ * other across one parameter direction; the face lies to the left of the coedge in (u, v)
+ * when it runs along its face's normal (same_sense 1; the right otherwise), on both sides of
+ * the seam, so the copy whose left points into the other copy's direction is this coedge's.
+ * Decided by geometry alone, as Open CASCADE does (ShapeAnalysis_Curve::SelectForwardSeam): the
+ * neighbours cannot tell where the joint is a pole, at which both copies meet the previous
+ * coedge's end. */
+static int seam_side(const cb_topo_body *b, const int p[2], const cb_topo_coedge *c,
+                     int same_sense)
+{
+    const cb_topo_edge *e = &b->edges[c->edge];
+    double m[2][3], a[3], z[3];
+    for (int j = 0; j < 2; j++)
+        cb_topo_curve_eval(m[j], &b->pcurves[p[j]], 0.5 * (e->t0 + e->t1));
+    double d[2] = {m[1][0] - m[0][0], m[1][1] - m[0][1]};
+    int across = fabs(d[0]) > fabs(d[1]) ? 0 : 1;
+    if (!(fabs(d[1 - across]) <= 1e-6 * fabs(d[across])))
+        return -1;
+    pcurve_end(a, b, p[0], c, 0);
+    pcurve_end(z, b, p[0], c, 1);
+    double run[2] = {z[0] - a[0], z[1] - a[1]}, left[2] = {-run[1], run[0]};
+    double toward = (same_sense ? 1 : -1) * left[across] * d[across];
+    if (toward == 0)
+        return -1;
+    /* left pointing from p[0] towards p[1]: the face lies between, p[0] is this side */
+    return toward > 0 ? 0 : 1;
+}
+
 /* Attaches pcurves to the coedges of face fi (whose surface is record surf). A seam edge has
- * two pcurves on the face and two coedges; each coedge takes the one whose start meets the end
- * of the previous coedge's pcurve in the (u, v) plane. */
+ * two pcurves on the face and two coedges; each coedge takes the one on its side of the seam
+ * (seam_side), or failing that the one whose start meets the end of the previous coedge's
+ * pcurve in the (u, v) plane. */
 static cb_status attach_pcurves(step_file *f, int fi, long surf, const int *geom)
 {
     cb_topo_body *b = f->body;
@@ -247,7 +277,12 @@ static cb_status attach_pcurves(step_file *f, int fi, long surf, const int *geom
                 }
                 const cb_topo_coedge *prev =
                     &b->coedges[lp->first + (k + lp->count - 1) % lp->count];
-                int choice = 0;
+                int choice = seam_side(b, ip, c, face->same_sense);
+                if (choice >= 0) {
+                    c->pcurve = ip[choice];
+                    continue;
+                }
+                choice = 0;
                 if (prev->pcurve >= 0) {
                     double end[3], s0[3], s1[3];
                     pcurve_end(end, b, prev->pcurve, prev, 1);
@@ -348,7 +383,7 @@ static cb_status face(step_file *f, const step_rec *r, int shell, int flip)
     if (!a)
         return f->err->status;
     const step_node *bounds = step_next(a), *x = step_next(bounds);
-    if ((st = step_get_list(f, r, bounds, "bounds", 1, 1 << 20)) ||
+    if ((st = step_get_list(f, r, bounds, "bounds", 0, 1 << 20)) ||
         (st = step_get_ref(f, r, x, "face_geometry", &sr)) ||
         (st = step_get_bool(f, r, step_next(x), "same_sense", &same)))
         return st;

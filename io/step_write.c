@@ -68,6 +68,8 @@ typedef struct {
     long next;                   /* next entity number */
     long *curve_id, *surface_id; /* entity written for body curve / surface k, 0 if not yet */
     long *vertex_id, *edge_id;
+    long context2d; /* the parameter space context of the pcurves, 0 if not yet */
+    int dim;        /* coordinates written per point: 3, or 2 while writing a pcurve */
     strbuf text;
     int failed;
 } writer;
@@ -101,9 +103,9 @@ static long emit(writer *w, const char *fmt, ...)
 static long write_triple(writer *w, const char *entity, const double v[3])
 {
     sb_printf(&w->text, "%s('',(", entity);
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < w->dim; k++) {
         sb_real(&w->text, v[k]);
-        sb_printf(&w->text, k < 2 ? "," : "))");
+        sb_printf(&w->text, k < w->dim - 1 ? "," : "))");
     }
     return emit_text(w);
 }
@@ -380,12 +382,118 @@ static long body_vertex(writer *w, int k)
     return w->vertex_id[k];
 }
 
-static long body_edge(writer *w, int k)
+/* PCURVE('', surface, DEFINITIONAL_REPRESENTATION('', (the 2D curve moved by sh and
+ * reparameterised by t -> t - dt), 2D context)). */
+static long write_pcurve(writer *w, long surface, const cb_topo_curve *pc, const double sh[2],
+                         double dt)
+{
+    if (!w->context2d)
+        w->context2d = emit(w, "(GEOMETRIC_REPRESENTATION_CONTEXT(2) "
+                               "PARAMETRIC_REPRESENTATION_CONTEXT() "
+                               "REPRESENTATION_CONTEXT('2D SPACE',''))");
+    cb_topo_curve moved = *pc;
+    cb_nurbs_curve_init(moved.nurbs);
+    if (pc->kind == CB_CURVE_NURBS) {
+        if (cb_nurbs_curve_set(moved.nurbs, pc->nurbs, NULL)) {
+            w->failed = 1;
+            return 0;
+        }
+        for (int k = 0; k < moved.nurbs->n; k++)
+            for (int i = 0; i < 2; i++)
+                moved.nurbs->cw[4 * k + i] += sh[i] * moved.nurbs->cw[4 * k + 3];
+        for (int k = 0; k < moved.nurbs->n + moved.nurbs->deg + 1; k++)
+            moved.nurbs->knots[k] += dt;
+    } else {
+        for (int i = 0; i < 2; i++)
+            moved.frame.o[i] += sh[i] - dt * moved.r1 * moved.frame.z[i];
+    }
+    w->dim = 2;
+    long c = write_curve(w, &moved);
+    w->dim = 3;
+    cb_topo_curve_clear(&moved);
+    long rep = emit(w, "DEFINITIONAL_REPRESENTATION('',(#%ld),#%ld)", c, w->context2d);
+    return emit(w, "PCURVE('',#%ld,#%ld)", surface, rep);
+}
+
+/* The coedges of face fi on edge k when there are two (a seam) and both carry a pcurve that
+ * can be written as the face's surface is (lines and B-splines in (u, v); not on an
+ * ellipsoid, written as a B-spline of another parameterisation): 1 and their indices. */
+static int seam_coedges(const writer *w, int k, int fi, int co[2])
+{
+    const cb_topo_body *b = w->b;
+    const cb_topo_face *f = &b->faces[fi];
+    const cb_topo_surface *s = &b->surfaces[f->surface];
+    if (s->kind == CB_SURFACE_ANALYTIC && s->analytic.kind == CB_ANALYTIC_ELLIPSOID)
+        return 0;
+    int n = 0;
+    for (int l = f->first; l < f->first + f->count; l++)
+        for (int c = b->loops[l].first; c < b->loops[l].first + b->loops[l].count; c++)
+            if (b->coedges[c].edge == k) {
+                if (n == 2)
+                    return 0;
+                co[n++] = c;
+            }
+    for (int j = 0; j < n; j++) {
+        int p = b->coedges[co[j]].pcurve;
+        if (p < 0 || (b->pcurves[p].kind != CB_CURVE_LINE && b->pcurves[p].kind != CB_CURVE_NURBS))
+            return 0;
+    }
+    return n == 2;
+}
+
+/* The shift by whole periods that puts the two pcurves of seam coedges co on the two ends of
+ * the surface's domain across the seam: pcurves may lie a period or more away (all of a
+ * face's lifted alike, which Colibri reads alike), and the reader computes the others of the
+ * face in the domain itself. */
+static void seam_lift(double sh[2], writer *w, int s, const int co[2])
+{
+    const cb_topo_body *b = w->b;
+    sh[0] = sh[1] = 0;
+    cb_topo_inverter inv;
+    if (cb_topo_inverter_init(&inv, &b->surfaces[s], b->tol > 0 ? b->tol : 1e-9, NULL))
+        return;
+    const cb_topo_edge *e = &b->edges[b->coedges[co[0]].edge];
+    double m[2][3];
+    for (int j = 0; j < 2; j++)
+        cb_topo_curve_eval(m[j], &b->pcurves[b->coedges[co[j]].pcurve], 0.5 * (e->t0 + e->t1));
+    int across = fabs(m[1][0] - m[0][0]) > fabs(m[1][1] - m[0][1]) ? 0 : 1;
+    double P = inv.period[across];
+    if (P > 0)
+        sh[across] = P * round((inv.box[2 * across] - fmin(m[0][across], m[1][across])) / P);
+    cb_topo_inverter_clear(&inv);
+}
+
+/* Edge k, first met in face fi. A seam edge of fi (used twice by it) carries its two pcurves,
+ * in the order of its coedges in the face, as a SEAM_CURVE: without them a reader must place
+ * each use on a side of the seam by itself, and Open CASCADE and Colibri both placed them
+ * wrongly in a sphere cut by a plane through both pieces of its seam (a Boolean's result), so
+ * reading back the sphere minus a cap gave the cap. Other edges carry their 3D curve alone. */
+static long body_edge(writer *w, int k, int fi)
 {
     if (!w->edge_id[k]) {
         const cb_topo_edge *e = &w->b->edges[k];
         long v0 = body_vertex(w, e->v[0]), v1 = body_vertex(w, e->v[1]);
         long c = body_curve(w, e->curve);
+        int co[2];
+        if (seam_coedges(w, k, fi, co)) {
+            int s = w->b->faces[fi].surface;
+            long surf = body_surface(w, s), pc[2];
+            double sh[2], dt = 0;
+            seam_lift(sh, w, s, co);
+            const cb_topo_curve *cu = &w->b->curves[e->curve];
+            if (cu->kind == CB_CURVE_CIRCLE || cu->kind == CB_CURVE_ELLIPSE) {
+                /* A reader puts the conic's range where its start vertex projects, in
+                 * [0, 2 pi): the pcurves follow that parameter. */
+                double ta;
+                cb_topo_curve_project(&ta, cu, w->b->vertices[e->v[e->same_sense ? 0 : 1]].p, 0,
+                                      0);
+                dt = 6.283185307179586 * round((ta - e->t0) / 6.283185307179586);
+            }
+            for (int j = 0; j < 2; j++)
+                pc[j] = write_pcurve(w, surf, &w->b->pcurves[w->b->coedges[co[j]].pcurve], sh,
+                                     dt);
+            c = emit(w, "SEAM_CURVE('',#%ld,(#%ld,#%ld),.PCURVE_S1.)", c, pc[0], pc[1]);
+        }
         w->edge_id[k] =
             emit(w, "EDGE_CURVE('',#%ld,#%ld,#%ld,%s)", v0, v1, c, e->same_sense ? ".T." : ".F.");
     }
@@ -420,7 +528,7 @@ static long write_face(writer *w, int fi)
         }
         for (int c = 0; c < lp->count; c++) {
             const cb_topo_coedge *ce = &b->coedges[lp->first + c];
-            long e = body_edge(w, ce->edge);
+            long e = body_edge(w, ce->edge, fi);
             oe[c] = emit(w, "ORIENTED_EDGE('',*,*,#%ld,%s)", e, ce->sense ? ".T." : ".F.");
         }
         long loop = emit_list(w, "EDGE_LOOP('',", oe, lp->count, ")");
@@ -584,7 +692,7 @@ cb_status cb_step_write(const cb_topo_body *b, const char *path, const char *nam
         return st;
     char pname[128];
     clean_name(pname, sizeof pname, name ? name : "colibri");
-    writer w = {.b = b, .next = 1};
+    writer w = {.b = b, .next = 1, .dim = 3};
     w.curve_id = calloc((size_t)b->n_curves + 1, sizeof(long));
     w.surface_id = calloc((size_t)b->n_surfaces + 1, sizeof(long));
     w.vertex_id = calloc((size_t)b->n_vertices + 1, sizeof(long));

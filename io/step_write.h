@@ -12,8 +12,10 @@
  * unit in millimetres), radians, and the body's tolerance as the uncertainty. Solids become
  * MANIFOLD_SOLID_BREP (BREP_WITH_VOIDS when they have voids) in an
  * ADVANCED_BREP_SHAPE_REPRESENTATION; a body of shells without solids becomes a
- * SHELL_BASED_SURFACE_MODEL in a MANIFOLD_SURFACE_SHAPE_REPRESENTATION. Pcurves are not
- * written. */
+ * SHELL_BASED_SURFACE_MODEL in a MANIFOLD_SURFACE_SHAPE_REPRESENTATION. Pcurves are written
+ * for seam edges only (an edge used twice by one face: a SEAM_CURVE with the pcurves of its two
+ * uses, lines or B-splines in the (u, v) of the face's surface, not on an ellipsoid): which
+ * side of the seam each use lies on is what a reader cannot always tell without them. */
 #ifndef CB_IO_STEP_WRITE_H
 #define CB_IO_STEP_WRITE_H
 

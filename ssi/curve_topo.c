@@ -10,7 +10,12 @@ void cb_ctopo_opts_default(cb_ctopo_opts *o)
     o->coord_bits = 40;
     o->prec = 128;
     o->max_attempts = 40;
-    o->max_depth = 24;
+    /* Input rounded to doubles puts features that coincide in exact geometry (a fold of the
+     * curve on a patch side, where a plane parallel to a torus's axis meets its equator) a
+     * relative 2^-53 apart, so two fibre roots can lie ~2^-53 apart in t: 64 levels separate
+     * them. The depth is spent only where a box fails its tests, so certified boxes elsewhere
+     * cost nothing more. */
+    o->max_depth = 64;
 }
 
 void cb_ctopo_init(cb_ctopo_t T)

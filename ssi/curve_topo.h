@@ -197,7 +197,7 @@ typedef struct {
                            points); fibre points keep their certified boxes */
     slong prec;         /* initial Arb working precision, bits */
     slong max_attempts; /* refinements of one critical line before giving up (CB_ERR_NUMERIC) */
-    slong max_depth;    /* bisection depth of the fibre partition per attempt */
+    slong max_depth;    /* bisection depth of the fibre partition per attempt; default 64 */
 } cb_ctopo_opts;
 
 void cb_ctopo_opts_default(cb_ctopo_opts *o);

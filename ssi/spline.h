@@ -131,6 +131,11 @@ void _cb_ssi_bez_eval_iv(_cb_iv X[3], _cb_iv Xu[3], _cb_iv Xv[3], const _cb_ssi_
  * halves' control points. */
 void _cb_ssi_split_iv(_cb_iv *lo, _cb_iv *hi, const _cb_iv *c, int d, int stride, int dim);
 
+/* The same split at a parameter t in [0, 1] known as an interval (the control points of the
+ * pieces over [0, t] and [t, 1] enclosed for every t in it). */
+void _cb_ssi_split_iv_at(_cb_iv *lo, _cb_iv *hi, const _cb_iv *c, int d, int stride, int dim,
+                         _cb_iv t);
+
 /* x / w for an interval w > 0 (outward rounding). */
 _cb_iv _cb_iv_div(_cb_iv x, _cb_iv w);
 
@@ -180,14 +185,72 @@ typedef struct {
     int many_branches;         /* uncertified ones with more than one branch */
     int march_failed;          /* branches whose marching did not converge (reported uncertified) */
     int nomem;                 /* 1: memory ran out, the pair stopped (reported uncertified) */
+    long unresolved;           /* sub-pairs left for _cb_ssi_tiny_resolve (see below) */
 } _cb_ssi_spline_stats;
+
+/* A sub-pair the tests could not certify, left at the 3D floor (both sub-patches within tol / 8)
+ * or within 8 tol and proved within tol of each other (slab: one slab of width <= tol holds
+ * both control nets, each a graph over its plane). Boxes in 3D and in the patches' domains; a
+ * candidate point X of both patches in it (P's middle and its foot on Q), with its parameters;
+ * job: the caller's index of the patch pair. */
+typedef struct {
+    double lo[3], hi[3];
+    double bp[4], bq[4];
+    double X[3], uv[2], st[2];
+    double gap; /* distance between the two surface points X is the middle of */
+    int reason, slab, job, root;
+    int blocker; /* not a tangent region's member but a sub-pair left uncertified (at the
+                    parameter floor or over the budget): a region meeting it stays open */
+} _cb_ssi_tiny;
+
+typedef struct {
+    slong n, alloc;
+    _cb_ssi_tiny *t;
+} _cb_ssi_tiny_set;
+
+void _cb_ssi_tiny_set_init(_cb_ssi_tiny_set *ts);
+void _cb_ssi_tiny_set_clear(_cb_ssi_tiny_set *ts);
 
 /* The intersection of the Bezier patches P and Q, polynomial or rational (certified as above):
  * one piece per certified branch appended to out, points refined onto both patches
  * (|P - Q| <= tol / 100), uv / st in the patches' domains (P->dom, Q->dom), chords within chord
- * and max_seg. Deterministic (serial inside). */
+ * and max_seg. Sub-pairs are split until certified, or until both sub-patches are within tol / 8
+ * in 3D, or within 8 tol and proved within tol of each other, which are appended to tiny (with
+ * job) for _cb_ssi_tiny_resolve; those at the parameter floor or over the budget are
+ * uncertified. Deterministic (serial inside). */
 void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *stats, const _cb_ssi_bez *P,
-                         const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o);
+                         const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o,
+                         _cb_ssi_tiny_set *tiny, int job);
+
+/* A tangent region resolved within the tolerance by _cb_ssi_tiny_resolve: its 3D box and
+ * diameter, the point (of both surfaces, parameters in the domains, P's uv and Q's st) its piece
+ * ends moved onto, how many did (0: it is an isolated contact point), whether every member was
+ * proved within tol of the other surface (slab), and the pair of its first member. */
+typedef struct {
+    double lo[3], hi[3], width;
+    double X[3], uv[2], st[2];
+    int ends, slab;
+    slong job;
+} _cb_ssi_tiny_region;
+
+/* Within the tolerance (tolerance-certificates.md sections 2 and 5), for the unresolved
+ * sub-pairs of all patch pairs of two surfaces (tiny[k]: those of pair k, pieces sets[k]):
+ * they are clustered (3D boxes meeting within tol / 10), and a cluster that meets no sub-pair
+ * left uncertified (blocker) and has a 3D diameter at most tol, or at most 100 tol with every
+ * member proved within tol, is resolved: the piece ends
+ * (of every pair) in its box grown by tol move onto one point of both surfaces in it (a member's
+ * candidate whose surface points are within tol; with none the cluster is not resolved),
+ * pieces lying wholly in it are dropped, and with no end it gives one isolated contact point
+ * (appended to the set of its first member's pair). A larger cluster is not resolved: bad[k]
+ * is set for each pair k with a member in it, and unres[k] counts them. Per resolved region:
+ * *regions, *nodes (of them with branch ends), *width (largest diameter), and a record in *out
+ * (*nout of them, malloc'd, the caller frees; NULL when none) whose index the moved piece ends
+ * (and the contact point) carry in _cb_ssi_end.region, so stitching joins them; within[k] is
+ * set for every pair k with a member in a resolved region or a piece end moved. -1 when out of
+ * memory. */
+int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tiny_set *tiny,
+                         char *bad, long *unres, double tol, long *regions, long *nodes,
+                         double *width, _cb_ssi_tiny_region **out, slong *nout, char *within);
 
 /* ---------------------------------------------------------------- coincidence ------------- */
 

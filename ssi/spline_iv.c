@@ -179,6 +179,23 @@ void _cb_ssi_bez_eval_iv(_cb_iv X[3], _cb_iv Xu[3], _cb_iv Xv[3], const _cb_ssi_
     }
 }
 
+void _cb_ssi_split_iv_at(_cb_iv *lo, _cb_iv *hi, const _cb_iv *c, int d, int stride, int dim,
+                         _cb_iv t)
+{
+    _cb_iv w[4 * (CB_MAX_DEGREE + 1)];
+    const _cb_iv omt = _cb_iv_sub(_cb_iv_pt(1), t);
+    for (int k = 0; k <= d; k++)
+        memcpy(w + dim * k, c + (size_t)k * stride, (size_t)dim * sizeof(_cb_iv));
+    for (int r = 0; r <= d; r++) {
+        memcpy(lo + (size_t)r * stride, w, (size_t)dim * sizeof(_cb_iv));
+        memcpy(hi + (size_t)(d - r) * stride, w + dim * (d - r), (size_t)dim * sizeof(_cb_iv));
+        for (int k = 0; k + r < d; k++)
+            for (int q = 0; q < dim; q++)
+                w[dim * k + q] = _cb_iv_add(_cb_iv_mul(omt, w[dim * k + q]),
+                                            _cb_iv_mul(t, w[dim * k + dim + q]));
+    }
+}
+
 void _cb_ssi_split_iv(_cb_iv *lo, _cb_iv *hi, const _cb_iv *c, int d, int stride, int dim)
 {
     _cb_iv w[4 * (CB_MAX_DEGREE + 1)];

@@ -11,6 +11,16 @@
 /* Boundary points kept per sub-patch pair; more means many branches (split further). */
 #define MAX_BPTS 16
 
+/* Within the tolerance (see _cb_ssi_spline_pair): sub-patches within TINY_TOL tol in 3D are not
+ * split further; a sub-pair the tests cannot certify whose sub-patches are within STOP_TOL tol
+ * and proved within tol of each other (slab_within) is not split either; a cluster of such
+ * sub-pairs is resolved when its 3D diameter is at most tol, or at most WT_MAX_TOL tol with
+ * every member proved within tol (a region where the two surfaces lie within tol of each
+ * other: a near-tangent node or contact). */
+#define TINY_TOL 0.125
+#define STOP_TOL 8.0
+#define WT_MAX_TOL 100.0
+
 /* ---------------------------------------------------------------- sub-patches -------------- */
 
 typedef struct {
@@ -35,6 +45,7 @@ typedef struct {
      * Doubles, exact below 2^53. */
     double *bin;
     int rows;
+    double frac[2]; /* where a node is split in u and in v, as a fraction of its box */
 } tree;
 
 static double binom(const tree *T, int n, int k)
@@ -241,11 +252,21 @@ static int node_add(tree *T)
 
 static void tree_clear(tree *T);
 
-/* The tree of b with its root; -1 when out of memory (nothing held). */
-static int tree_init(tree *T, const _cb_ssi_bez *b)
+/* Split fractions: away from 1/2 (designs put features on parameter midpoints: a node or a
+ * branch on a split line leaves every sub-pair along it with roots on its sides), and different
+ * for the two patches (two patches parameterised alike would otherwise get sides that meet
+ * where a branch crosses both), by the golden section's offset. */
+#define SPLIT_LO 0.4618033988749895
+#define SPLIT_HI 0.5381966011250105
+
+/* The tree of b with its root, split at the fractions (fu, fv); -1 when out of memory (nothing
+ * held). */
+static int tree_init(tree *T, const _cb_ssi_bez *b, double fu, double fv)
 {
     memset(T, 0, sizeof(*T));
     T->b = b;
+    T->frac[0] = fu;
+    T->frac[1] = fv;
     T->nn = (b->rat ? 9 : 4) * b->m * b->n;
     T->rows = 3 * (b->m > b->n ? b->m : b->n);
     int w = T->rows + 1;
@@ -300,27 +321,34 @@ static int node_split(tree *T, int k)
     int c[4] = {-1, -1, -1, -1}, ok = ulo && uhi && tmp;
     for (int q = 0; q < 4 && ok; q++)
         ok = (c[q] = node_add(T)) >= 0;
+    /* The split parameters, and their fractions of the box as intervals (the split values are
+     * rounded to doubles; the nets are split where they are). */
+    const double *pb = T->nd[k].box;
+    double um = pb[0] + T->frac[0] * (pb[1] - pb[0]), vm = pb[2] + T->frac[1] * (pb[3] - pb[2]);
+    _cb_iv tu = _cb_iv_div(_cb_iv_sub(_cb_iv_pt(um), _cb_iv_pt(pb[0])),
+                           _cb_iv_sub(_cb_iv_pt(pb[1]), _cb_iv_pt(pb[0])));
+    _cb_iv tv = _cb_iv_div(_cb_iv_sub(_cb_iv_pt(vm), _cb_iv_pt(pb[2])),
+                           _cb_iv_sub(_cb_iv_pt(pb[3]), _cb_iv_pt(pb[2])));
     if (ok) {
         for (int j = 0; j <= n; j++)
-            _cb_ssi_split_iv(ulo + D * j, uhi + D * j, T->nd[k].net + D * j, m, D * nv, D);
+            _cb_ssi_split_iv_at(ulo + D * j, uhi + D * j, T->nd[k].net + D * j, m, D * nv, D,
+                                tu);
         for (int h = 0; h < 2; h++) {
             const _cb_iv *half = h ? uhi : ulo;
             for (int g = 0; g < 2; g++) {
                 node *par = T->nd + k, *d = T->nd + c[2 * h + g];
                 d->depth = par->depth + 1;
-                double um = 0.5 * (par->box[0] + par->box[1]);
-                double vm = 0.5 * (par->box[2] + par->box[3]);
                 d->box[0] = h ? um : par->box[0];
                 d->box[1] = h ? par->box[1] : um;
                 d->box[2] = g ? vm : par->box[2];
                 d->box[3] = g ? par->box[3] : vm;
                 for (int i = 0; i <= m; i++) {
                     if (g)
-                        _cb_ssi_split_iv(tmp + D * i * nv, d->net + D * i * nv,
-                                         half + D * i * nv, n, D, D);
+                        _cb_ssi_split_iv_at(tmp + D * i * nv, d->net + D * i * nv,
+                                            half + D * i * nv, n, D, D, tv);
                     else
-                        _cb_ssi_split_iv(d->net + D * i * nv, tmp + D * i * nv,
-                                         half + D * i * nv, n, D, D);
+                        _cb_ssi_split_iv_at(d->net + D * i * nv, tmp + D * i * nv,
+                                            half + D * i * nv, n, D, D, tv);
                 }
                 ok = ok && !node_finish(T, c[2 * h + g]);
             }
@@ -421,6 +449,60 @@ static int cone_direction(double e[3], const node *A, const node *B, int na, int
                 return 0;
         }
     }
+    return 1;
+}
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* 1 when the sub-patches of A and B lie in one slab of width at most w and each is a graph
+ * over the slab's plane (tolerance-certificates.md section 2, steps 1 and 2, proved on the
+ * interval nets and normal coefficients): wherever one lies over the other, they are within w
+ * of each other along the slab's normal. The normal is the mean of the two sub-patches' mean
+ * normals (B's turned to agree with A's). */
+static int slab_within(const node *A, const node *B, int na, int nb, double w)
+{
+    double n[3], la = sqrt(dot3(A->nsum, A->nsum)), lb = sqrt(dot3(B->nsum, B->nsum));
+    if (!(la > 0 && lb > 0) || !isfinite(la + lb))
+        return 0;
+    double sb = dot3(A->nsum, B->nsum) < 0 ? -1 : 1;
+    for (int q = 0; q < 3; q++)
+        n[q] = A->nsum[q] / la + sb * B->nsum[q] / lb;
+    double ln = sqrt(dot3(n, n));
+    if (!(ln > 0))
+        return 0;
+    for (int q = 0; q < 3; q++)
+        n[q] /= ln;
+    const double N1 = fabs(n[0]) + fabs(n[1]) + fabs(n[2]), eps = 0x1p-52;
+    /* The slab: n . x over every control point enclosure of both. */
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
+    const node *nd[2] = {A, B};
+    for (int s = 0; s < 2; s++) {
+        /* n . x is linear: its range over the net's box is that over the box's corners */
+        double l = 0, h = 0, mag = 0;
+        for (int q = 0; q < 3; q++) {
+            l += n[q] >= 0 ? n[q] * nd[s]->lo[q] : n[q] * nd[s]->hi[q];
+            h += n[q] >= 0 ? n[q] * nd[s]->hi[q] : n[q] * nd[s]->lo[q];
+            mag += fabs(n[q]) * fmax(fabs(nd[s]->lo[q]), fabs(nd[s]->hi[q]));
+        }
+        lo = fmin(lo, l - 4 * eps * mag);
+        hi = fmax(hi, h + 4 * eps * mag);
+    }
+    if (!(hi - lo <= w))
+        return 0;
+    /* Graphs: every normal coefficient on the same side of n (A's as given, B's times sb). */
+    const int cnt[2] = {na, nb};
+    const double sg[2] = {1, sb};
+    for (int s = 0; s < 2; s++)
+        for (int c = 0; c < cnt[s]; c++) {
+            const double *m = nd[s]->nm + 3 * c;
+            double d = sg[s] * (n[0] * m[0] + n[1] * m[1] + n[2] * m[2]);
+            double mm = fabs(m[0]) + fabs(m[1]) + fabs(m[2]);
+            if (!(d > N1 * nd[s]->nr[c] + 8 * eps * mm * N1))
+                return 0;
+        }
     return 1;
 }
 
@@ -809,12 +891,301 @@ static double width(const node *d)
     return fmax(d->box[1] - d->box[0], d->box[3] - d->box[2]);
 }
 
+/* ---------------------------------------------------------------- within the tolerance ---- */
+
+void _cb_ssi_tiny_set_init(_cb_ssi_tiny_set *ts) { memset(ts, 0, sizeof *ts); }
+
+void _cb_ssi_tiny_set_clear(_cb_ssi_tiny_set *ts)
+{
+    free(ts->t);
+    memset(ts, 0, sizeof *ts);
+}
+
+/* The point of patch Q nearest X, from the local parameters st (updated; Gauss-Newton clamped
+ * to [0, 1]^2, each step kept only when it gets closer): Y = Q(st). */
+static void foot_on(double st[2], double Y[3], const _cb_ssi_bez *Q, const double X[3])
+{
+    double Qs[3], Qt[3];
+    _cb_ssi_bez_eval(Y, Qs, Qt, Q, st[0], st[1]);
+    double best = (Y[0] - X[0]) * (Y[0] - X[0]) + (Y[1] - X[1]) * (Y[1] - X[1]) +
+                  (Y[2] - X[2]) * (Y[2] - X[2]);
+    for (int it = 0; it < 20 && best > 0; it++) {
+        double a = dot3(Qs, Qs), b = dot3(Qs, Qt), c = dot3(Qt, Qt), r[3];
+        for (int q = 0; q < 3; q++)
+            r[q] = X[q] - Y[q];
+        double p = dot3(Qs, r), q2 = dot3(Qt, r), det = a * c - b * b;
+        if (!(det > 0))
+            break;
+        double n[2] = {fmin(1, fmax(0, st[0] + (c * p - b * q2) / det)),
+                       fmin(1, fmax(0, st[1] + (a * q2 - b * p) / det))};
+        double Z[3], Zs[3], Zt[3];
+        _cb_ssi_bez_eval(Z, Zs, Zt, Q, n[0], n[1]);
+        double e = (Z[0] - X[0]) * (Z[0] - X[0]) + (Z[1] - X[1]) * (Z[1] - X[1]) +
+                   (Z[2] - X[2]) * (Z[2] - X[2]);
+        if (!(e < best))
+            break;
+        best = e;
+        memcpy(st, n, sizeof n);
+        memcpy(Y, Z, sizeof Z);
+        memcpy(Qs, Zs, sizeof Zs);
+        memcpy(Qt, Zt, sizeof Zt);
+    }
+}
+
+/* Appends the unresolved sub-pair (a, b) of pair job to ts; -1 when out of memory. */
+static int tiny_add(_cb_ssi_tiny_set *ts, const node *a, const node *b, const _cb_ssi_bez *P,
+                    const _cb_ssi_bez *Q, int reason, int slab, int job)
+{
+    if (ts->n == ts->alloc) {
+        slong na = ts->alloc ? 2 * ts->alloc : 64;
+        _cb_ssi_tiny *q = realloc(ts->t, (size_t)na * sizeof *q);
+        if (!q)
+            return -1;
+        ts->t = q;
+        ts->alloc = na;
+    }
+    _cb_ssi_tiny *t = ts->t + ts->n++;
+    for (int q = 0; q < 3; q++) {
+        t->lo[q] = fmin(a->lo[q], b->lo[q]);
+        t->hi[q] = fmax(a->hi[q], b->hi[q]);
+    }
+    const double *dp = P->dom, *dq = Q->dom;
+    for (int k = 0; k < 2; k++) {
+        t->bp[2 * k] = dp[2 * k] + a->box[2 * k] * (dp[2 * k + 1] - dp[2 * k]);
+        t->bp[2 * k + 1] = dp[2 * k] + a->box[2 * k + 1] * (dp[2 * k + 1] - dp[2 * k]);
+        t->bq[2 * k] = dq[2 * k] + b->box[2 * k] * (dq[2 * k + 1] - dq[2 * k]);
+        t->bq[2 * k + 1] = dq[2 * k] + b->box[2 * k + 1] * (dq[2 * k + 1] - dq[2 * k]);
+    }
+    /* The candidate point: P's middle and its foot on Q, each on its patch. */
+    double x[4] = {0.5 * (a->box[0] + a->box[1]), 0.5 * (a->box[2] + a->box[3]),
+                   0.5 * (b->box[0] + b->box[1]), 0.5 * (b->box[2] + b->box[3])};
+    double A[3], B[3], d1[3], d2[3];
+    _cb_ssi_bez_eval(A, d1, d2, P, x[0], x[1]);
+    foot_on(x + 2, B, Q, A);
+    for (int q = 0; q < 3; q++)
+        t->X[q] = 0.5 * (A[q] + B[q]);
+    t->gap = sqrt((A[0] - B[0]) * (A[0] - B[0]) + (A[1] - B[1]) * (A[1] - B[1]) +
+                  (A[2] - B[2]) * (A[2] - B[2]));
+    t->uv[0] = dp[0] + x[0] * (dp[1] - dp[0]);
+    t->uv[1] = dp[2] + x[1] * (dp[3] - dp[2]);
+    t->st[0] = dq[0] + x[2] * (dq[1] - dq[0]);
+    t->st[1] = dq[2] + x[3] * (dq[3] - dq[2]);
+    t->reason = reason;
+    t->slab = slab;
+    t->blocker = 0;
+    t->job = job;
+    return 0;
+}
+
+static int tiny_find(_cb_ssi_tiny *t, int k)
+{
+    while (t[k].root != k) {
+        t[k].root = t[t[k].root].root;
+        k = t[k].root;
+    }
+    return k;
+}
+
+static int boxes_meet(const _cb_ssi_tiny *a, const _cb_ssi_tiny *b, double slack)
+{
+    for (int q = 0; q < 3; q++)
+        if (a->hi[q] + slack < b->lo[q] || b->hi[q] + slack < a->lo[q])
+            return 0;
+    return 1;
+}
+
+static int in_box(const double X[3], const double lo[3], const double hi[3], double slack)
+{
+    for (int q = 0; q < 3; q++)
+        if (X[q] < lo[q] - slack || X[q] > hi[q] + slack)
+            return 0;
+    return 1;
+}
+
+/* By low x, then by the order of arrival (root holds it while sorting). */
+static int cmp_tiny(const void *x, const void *y)
+{
+    const _cb_ssi_tiny *a = x, *b = y;
+    if (a->lo[0] != b->lo[0])
+        return a->lo[0] < b->lo[0] ? -1 : 1;
+    return (a->root > b->root) - (a->root < b->root);
+}
+
+int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tiny_set *tiny,
+                         char *bad, long *unres, double tol, long *regions, long *nodes,
+                         double *width, _cb_ssi_tiny_region **out, slong *nout, char *within)
+{
+    *out = NULL;
+    *nout = 0;
+    slong nt = 0, alloc_out = 0;
+    for (slong k = 0; k < nsets; k++)
+        nt += tiny[k].n;
+    if (nt == 0)
+        return 0;
+    _cb_ssi_tiny *t = malloc((size_t)nt * sizeof *t);
+    if (!t)
+        return -1;
+    nt = 0;
+    for (slong k = 0; k < nsets; k++)
+        for (slong i = 0; i < tiny[k].n; i++) {
+            t[nt] = tiny[k].t[i];
+            t[nt].root = (int)nt;
+            nt++;
+        }
+    /* Boxes that meet (within a tenth of the tolerance) are one cluster: sorted by their low x
+     * (ties by the order they came in, so the result does not depend on threads), each is
+     * compared with those after it that start before it ends in x. */
+    for (slong i = 0; i < nt; i++)
+        t[i].root = (int)i;
+    qsort(t, (size_t)nt, sizeof *t, cmp_tiny);
+    for (slong i = 0; i < nt; i++)
+        t[i].root = (int)i;
+    for (slong i = 0; i < nt; i++)
+        for (slong j = i + 1; j < nt && t[j].lo[0] <= t[i].hi[0] + 0.1 * tol; j++)
+            if (boxes_meet(t + i, t + j, 0.1 * tol)) {
+                int a = tiny_find(t, (int)i), b = tiny_find(t, (int)j);
+                if (a != b)
+                    t[a > b ? a : b].root = a < b ? a : b;
+            }
+    int st = 0;
+    for (slong c = 0; c < nt && st == 0; c++) {
+        if (tiny_find(t, (int)c) != c)
+            continue;
+        double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+        int all_slab = 1, blocked = 0;
+        for (slong i = c; i < nt; i++)
+            if (tiny_find(t, (int)i) == c) {
+                all_slab = all_slab && t[i].slab;
+                blocked = blocked || t[i].blocker;
+                for (int q = 0; q < 3; q++) {
+                    lo[q] = fmin(lo[q], t[i].lo[q]);
+                    hi[q] = fmax(hi[q], t[i].hi[q]);
+                }
+            }
+        double diam = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                           (hi[2] - lo[2]) * (hi[2] - lo[2]));
+        if (blocked || !(diam <= tol || (all_slab && diam <= WT_MAX_TOL * tol))) {
+            for (slong i = c; i < nt; i++)
+                if (tiny_find(t, (int)i) == c && !t[i].blocker) {
+                    bad[t[i].job] = 1;
+                    unres[t[i].job]++;
+                }
+            continue;
+        }
+        /* The point: the candidate of the member nearest the cluster's centre among those
+         * whose two surface points are within tol (so the point is within tol / 2 of both);
+         * with none, the region is not resolved. */
+        double cen[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+        slong best = -1;
+        double bd = HUGE_VAL;
+        for (slong i = c; i < nt; i++) {
+            if (tiny_find(t, (int)i) != c || !(t[i].gap <= tol))
+                continue;
+            double m[3] = {0.5 * (t[i].lo[0] + t[i].hi[0]), 0.5 * (t[i].lo[1] + t[i].hi[1]),
+                           0.5 * (t[i].lo[2] + t[i].hi[2])};
+            double d = sqrt((m[0] - cen[0]) * (m[0] - cen[0]) + (m[1] - cen[1]) * (m[1] - cen[1]) +
+                            (m[2] - cen[2]) * (m[2] - cen[2]));
+            if (d < bd) {
+                bd = d;
+                best = i;
+            }
+        }
+        if (best < 0) {
+            for (slong i = c; i < nt; i++)
+                if (tiny_find(t, (int)i) == c && !t[i].blocker) {
+                    bad[t[i].job] = 1;
+                    unres[t[i].job]++;
+                }
+            continue;
+        }
+        _cb_ssi_pq node_pq;
+        memset(&node_pq, 0, sizeof node_pq);
+        memcpy(node_pq.uv, t[best].uv, sizeof node_pq.uv);
+        memcpy(node_pq.st, t[best].st, sizeof node_pq.st);
+        const double *X = t[best].X;
+        /* Its record, whose index the moved ends carry (stitching joins them). */
+        if (*nout == alloc_out) {
+            slong na = alloc_out ? 2 * alloc_out : 8;
+            _cb_ssi_tiny_region *q = realloc(*out, (size_t)na * sizeof *q);
+            if (!q) {
+                st = -1;
+                break;
+            }
+            *out = q;
+            alloc_out = na;
+        }
+        slong rid = *nout;
+        _cb_ssi_tiny_region *rg = *out + (*nout)++;
+        memcpy(rg->lo, lo, sizeof rg->lo);
+        memcpy(rg->hi, hi, sizeof rg->hi);
+        rg->width = diam;
+        memcpy(rg->X, X, sizeof rg->X);
+        memcpy(rg->uv, node_pq.uv, sizeof rg->uv);
+        memcpy(rg->st, node_pq.st, sizeof rg->st);
+        rg->slab = all_slab;
+        rg->job = t[c].job;
+        for (slong i = c; i < nt; i++)
+            if (tiny_find(t, (int)i) == c)
+                within[t[i].job] = 1;
+        /* Branch ends in the region (grown by the tolerance) move onto the point; a piece
+         * lying wholly in it (between two of its sub-pairs) is dropped. */
+        int ends = 0;
+        for (slong k = 0; k < nsets; k++) {
+            _cb_ssi_piece_set *out = sets + k;
+            for (slong q = 0; q < out->n; q++) {
+                _cb_ssi_piece *pc = out->p + q;
+                if (pc->isolated || pc->n < 2)
+                    continue;
+                int inside = 1;
+                for (slong i = 0; i < pc->n && inside; i++)
+                    inside = in_box(pc->xyz + 3 * i, lo, hi, tol);
+                if (inside) {
+                    _cb_ssi_piece_clear(pc);
+                    memmove(pc, pc + 1, (size_t)(out->n - q - 1) * sizeof *pc);
+                    out->n--;
+                    q--;
+                    continue;
+                }
+                for (int e = 0; e < 2; e++) {
+                    slong i = e ? pc->n - 1 : 0;
+                    if (!in_box(pc->xyz + 3 * i, lo, hi, tol))
+                        continue;
+                    pc->pt[i] = node_pq;
+                    memcpy(pc->xyz + 3 * i, X, 3 * sizeof(double));
+                    /* Moved: its vertex, sides and enclosures describe another point now. */
+                    _cb_ssi_end_clear(pc->end + e);
+                    pc->end[e].region = rid;
+                    within[k] = 1;
+                    ends++;
+                }
+            }
+        }
+        if (ends == 0) {
+            _cb_ssi_piece *pc = _cb_ssi_piece_set_add(sets + t[c].job);
+            if (!pc || _cb_ssi_piece_push(pc, &node_pq, X) != CB_OK) {
+                st = -1;
+            } else {
+                pc->isolated = pc->tangential = 1;
+                pc->end[0].region = rid;
+            }
+        }
+        rg->ends = ends;
+        (*regions)++;
+        *nodes += ends > 0;
+        *width = fmax(*width, diam);
+    }
+    free(t);
+    return st;
+}
+
 void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const _cb_ssi_bez *P,
-                         const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o)
+                         const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o,
+                         _cb_ssi_tiny_set *tiny, int job)
 {
     memset(st, 0, sizeof(*st));
     tree TP, TQ;
-    int okp = tree_init(&TP, P) == 0, okq = tree_init(&TQ, Q) == 0;
+    int okp = tree_init(&TP, P, SPLIT_LO, SPLIT_HI) == 0,
+        okq = tree_init(&TQ, Q, SPLIT_HI, SPLIT_LO) == 0;
     double floor_w = ldexp(1.0, -o->max_depth);
     long alloc = 64, sp = 0;
     int(*stack)[2] = malloc((size_t)alloc * sizeof(*stack));
@@ -837,6 +1208,11 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
         int ia = stack[sp][0], ib = stack[sp][1];
         if (st->subpairs >= o->max_subpairs) {
             uncertified(st, TP.nd + ia, TQ.nd + ib);
+            /* A region left open here: a tangent region meeting it is not resolved. */
+            if (tiny_add(tiny, TP.nd + ia, TQ.nd + ib, P, Q, 0, 0, job))
+                st->nomem = 1;
+            else
+                tiny->t[tiny->n - 1].blocker = 1;
             continue;
         }
         st->subpairs++;
@@ -891,6 +1267,20 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
             }
             continue;
         }
+        /* Both sub-patches within TINY_TOL tol, or within STOP_TOL tol and proved within tol
+         * of each other: not split further; resolved with the others of its cluster after the
+         * traversal. */
+        int small = a->size <= STOP_TOL * o->tol && b->size <= STOP_TOL * o->tol;
+        int slab = small && slab_within(a, b, TP.nn, TQ.nn, o->tol);
+        if ((a->size <= TINY_TOL * o->tol && b->size <= TINY_TOL * o->tol) || slab) {
+            if (tiny_add(tiny, a, b, P, Q, reason, slab, job)) {
+                st->nomem = 1;
+                uncertified(st, a, b);
+                break;
+            }
+            st->unresolved++;
+            continue;
+        }
         /* Split the larger sub-patch that is above the floor. */
         int can_a = width(a) > floor_w, can_b = width(b) > floor_w;
         if (!can_a && !can_b) {
@@ -898,6 +1288,10 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
             st->ambiguous_roots += reason == 2;
             st->many_branches += reason == 3;
             uncertified(st, a, b);
+            if (tiny_add(tiny, a, b, P, Q, reason, 0, job))
+                st->nomem = 1;
+            else
+                tiny->t[tiny->n - 1].blocker = 1;
             continue;
         }
         int split_a = can_a && (!can_b || a->size >= b->size);

@@ -47,10 +47,12 @@
  * surface as its exact rational B-spline against the other's implicit equation (the
  * analytic/NURBS pipeline, certified topology), parameters mapped back to the analytic surface.
  *
- * B-spline faces that are the exact rational forms of planes, cylinders and spheres
- * (cb_analytic_to_nurbs nets, recognised and confirmed by rebuilding the net; ssi_recog.c) take those closed forms when
- * one decides the pair, parameters mapped back to the B-splines (opts.recognise): the rounded
- * conic weights otherwise leave nodes and tangencies (the Steinmetz bicylinder) uncertified.
+ * B-spline faces proved to lie within a thousandth of the tolerance of a plane, cylinder, sphere
+ * or cone (any net, knots and parameterisation: a candidate fitted to samples, then a Bernstein
+ * bound of its equation over every Bezier patch; ssi_recog.c) take those closed forms when one
+ * decides the pair, the curves clipped to the B-splines' domains and their parameters found by
+ * point inversion (opts.recognise): the rounded conic weights otherwise leave nodes and
+ * tangencies (the Steinmetz bicylinder, a plug in its hole) uncertified.
  *
  * Surfaces that coincide give no curves but a cb_ssi_coincident record with the orientation
  * of their normals: exactly (phi = 0, or Q = P reparameterised) or, proved by a rigorous bound,
@@ -108,14 +110,14 @@ typedef struct {
                              (about 6 s) */
     cb_ctopo_opts topo;   /* passed to cb_ctopo_compute; defaults of cb_ctopo_opts_default */
     int spline_max_depth; /* subdivision route: sub-patches are not split below parameter
-                             width 2^-spline_max_depth of their Bezier patch; default 20 */
+                             width 2^-spline_max_depth of their Bezier patch; default 30 (the
+                             3D floor, tol / 8, usually stops them first) */
     slong spline_max_subpairs; /* subdivision route: sub-patch pairs examined per Bezier
                                   patch pair before the rest is reported uncertified;
                                   default 20000 */
-    int recognise; /* 1 (default): B-spline faces that are the exact rational forms of planes,
-                      cylinders and spheres (cb_analytic_to_nurbs nets, control points within 1e-3 tol)
-                      take the analytic closed forms when one decides the pair (ssi_recog.c);
-                      0: always the B-spline routes */
+    int recognise; /* 1 (default): B-spline faces proved to lie on planes, cylinders, spheres
+                      or cones (within 1e-3 tol) take the analytic closed forms when one
+                      decides the pair (ssi_recog.c); 0: always the B-spline routes */
     const cb_context *cancel; /* NULL (default), or a context whose cancellation
                                  (cb_context_cancel) cb_ssi_bodies checks before each face
                                  pair: it then stops with CB_ERR_CANCELLED */
@@ -305,6 +307,13 @@ typedef struct {
                                in pairs_certified (exact) or pairs_within_tolerance */
     slong pairs_closed_form; /* analytic/analytic pairs decided by a closed form (counted in
                                 pairs_certified; the others took the general route) */
+    slong regions_within_tol; /* tangent regions the subdivision route resolved within the
+                                 tolerance (a cluster of sub-pairs of 3D diameter <= tol, or
+                                 <= 100 tol where the surfaces are proved within tol of each
+                                 other): each became one point (_cb_ssi_tiny_resolve) */
+    slong nodes_within_tol;   /* of them with branch ends joined there (near-tangent nodes);
+                                 the others are isolated contact points */
+    double width_within_tol;  /* largest 3D diameter of such a region */
     double tol;             /* tolerance used */
     double max_dist_a, max_dist_b; /* largest distance of an output point to A and to B */
     double time_topo, time_trace;  /* seconds summed over patch pairs (all threads) */
@@ -381,11 +390,13 @@ typedef struct {
 
 /* How a piece ends: vid >= 0 is a vertex of its pair's certified topology graph (ends with the
  * same vid in one pair are one point, with different vids different points); nl lines it lies
- * on (a corner of a patch box: two). */
+ * on (a corner of a patch box: two); region (below). */
 typedef struct {
     slong vid;
     int nl;
     _cb_ssi_end_line ln[2];
+    slong region; /* >= 0: moved onto the point of that tangent region resolved within the
+                     tolerance (_cb_ssi_tiny_resolve); ends with one region are one node */
 } _cb_ssi_end;
 
 /* A polyline found in one patch pair, before stitching; points in P/Q parameters. */
@@ -620,28 +631,41 @@ cb_status _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s);
 void _cb_ssi_result_measure(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_ssi_surface *B,
                             const cb_ssi_point *p);
 
-/* B-spline faces that are exact rational forms of analytic surfaces (ssi_recog.c).
- * _cb_ssi_recognise: 1 when s is, up to delta in its Euclidean control points and 1e-12
- * (relative) in knots and weights, the net cb_analytic_to_nurbs makes of a plane, a cylinder or
- * a sphere over some range; then a and range are that surface and range (the B-spline's domain).
- * _cb_ssi_recog_param: B-spline parameters of the analytic (u, v) on such an s.
- * _cb_ssi_recognised_pair: when every NURBS side of A, B is recognised (control points within
- * 1e-3 tol) and the analytic pair is decided by a closed form without failures, appends that
- * result with the parameters mapped to the B-spline parameterisations and sets *done; otherwise
- * appends nothing (*done = 0) and the caller takes the B-spline route. CB_ERR_NOMEM when
- * r has no room for that result (part of it may be in r). */
-int _cb_ssi_recognise(cb_analytic_surface *a, double range[4], const cb_nurbs_surface_struct *s,
-                      double delta);
-void _cb_ssi_recog_param(double out[2], const cb_nurbs_surface_struct *s,
-                         const cb_analytic_surface *a, const double uv[2]);
+/* B-spline surfaces that lie on analytic ones (ssi_recog.c).
+ * _cb_ssi_recognise: 1 when s is proved to lie within delta of a plane, cylinder, sphere or cone
+ * (a candidate fitted to samples, then a Bernstein bound of its equation over every Bezier
+ * patch of s: see ssi_recog.c); a is that surface, *dev the proved largest distance (<= delta),
+ * range an analytic parameter range holding s's image (angular directions whole turns).
+ * _cb_ssi_recognised_pair: when every B-spline side of A, B is recognised (delta a thousandth of
+ * the tolerance) and the analytic pair is decided by a closed form without failures, appends
+ * that result, clipped to the B-splines' domains and with their parameters (point inversion),
+ * and sets *done; otherwise appends nothing (*done = 0) and the caller takes the B-spline
+ * route. CB_ERR_NOMEM when r has no room for that result (part of it may be in r). */
+int _cb_ssi_recognise(cb_analytic_surface *a, double range[4], double *dev,
+                      const cb_nurbs_surface_struct *s, double delta);
 cb_status _cb_ssi_recognised_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
                                   const cb_ssi_surface *B, int face_a, int face_b,
                                   const cb_ssi_opts *opts, int *done, cb_error *err);
+
+/* The B-spline an analytic surface stands for in _cb_ssi_analytic_pair_img: its inverter, and
+ * the proved largest distance between the two. */
+typedef struct {
+    const cb_topo_inverter *inv;
+    double dev;
+} _cb_ssi_image;
 
 /* Two analytic surfaces (ssi_analytic.c; see cb_ssi_surfaces). */
 cb_status _cb_ssi_analytic_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
                                 const cb_ssi_surface *B, int face_a, int face_b,
                                 const cb_ssi_opts *opts, cb_error *err);
+/* The same where img[k] (may be NULL) is the B-spline that side k stands for: the curves are
+ * clipped to that B-spline's image (its domain, by point inversion) instead of the analytic
+ * range, their parameters on that side are the B-spline's, and only the closed forms run (a
+ * pair they do not decide gives nothing). */
+cb_status _cb_ssi_analytic_pair_img(cb_ssi_result_t r, const cb_ssi_surface *A,
+                                    const cb_ssi_surface *B, const _cb_ssi_image *const img[2],
+                                    int face_a, int face_b, const cb_ssi_opts *opts,
+                                    cb_error *err);
 
 /* Appends a failure record to r (ssi_result.c) and sets r->status to st if it was CB_OK.
  * CB_ERR_NOMEM when the record cannot be stored: r->status is then set to CB_ERR_NOMEM if it

@@ -81,6 +81,8 @@ typedef struct {
     double per[2];   /* 2 pi for an angular direction, else 0 */
     int full[2];     /* the angular direction covers a whole turn: never clipped */
     cb_aabb box;
+    const _cb_ssi_image *img; /* the B-spline a stands for (NULL: none): clipping to its
+                                 domain, parameters its own */
 } asurf;
 
 static int is_angular(const cb_analytic_surface *a, int d)
@@ -187,6 +189,10 @@ static void asurf_bound(asurf *s, const cb_aabb *b, double tol)
  * that end). */
 static void ainvert(double uv[2], const asurf *s, const double X[3])
 {
+    if (s->img) {
+        cb_topo_inverter_invert(uv, s->img->inv, X, NULL);
+        return;
+    }
     _cb_ssi_analytic_invert(uv, s->a, X);
     for (int d = 0; d < 2; d++) {
         double per = s->per[d], lo = s->range[2 * d], hi = s->range[2 * d + 1];
@@ -204,6 +210,22 @@ static void ainvert(double uv[2], const asurf *s, const double X[3])
 static double amargin(const asurf *s, const double X[3], double tol)
 {
     double uv[2], D[6][3], m = HUGE_VAL;
+    if (s->img) {
+        /* The B-spline's domain: the parameter distance of the foot point to its nearer end
+         * times the speed there, per direction that does not close on itself; beyond the
+         * domain the foot point lies on its boundary and the distance to it, less the proved
+         * distance between the two surfaces, counts against. */
+        const cb_topo_inverter *inv = s->img->inv;
+        double dist = cb_topo_inverter_invert(uv, inv, X, NULL);
+        cb_topo_inverter_eval_derivs(D, inv, uv[0], uv[1]);
+        for (int d = 0; d < 2; d++)
+            if (!(inv->period[d] > 0))
+                m = fmin(m, fmin(uv[d] - inv->box[2 * d], inv->box[2 * d + 1] - uv[d]) *
+                                norm(D[1 + d]));
+        if (m == HUGE_VAL)
+            m = norm(D[1]) + norm(D[2]);
+        return fmax(m, 0) + tol - fmax(dist - s->img->dev, 0);
+    }
     _cb_ssi_analytic_invert(uv, s->a, X);
     cb_analytic_eval_derivs(D, s->a, uv[0], uv[1]);
     for (int d = 0; d < 2; d++) {
@@ -225,8 +247,13 @@ static double amargin(const asurf *s, const double X[3], double tol)
 static void anormal(double n[3], const asurf *s, const double X[3])
 {
     double uv[2], D[6][3];
-    _cb_ssi_analytic_invert(uv, s->a, X);
-    cb_analytic_eval_derivs(D, s->a, uv[0], uv[1]);
+    if (s->img) {
+        cb_topo_inverter_invert(uv, s->img->inv, X, NULL);
+        cb_topo_inverter_eval_derivs(D, s->img->inv, uv[0], uv[1]);
+    } else {
+        _cb_ssi_analytic_invert(uv, s->a, X);
+        cb_analytic_eval_derivs(D, s->a, uv[0], uv[1]);
+    }
     cross(n, D[1], D[2]);
     if (!unit(n, n))
         n[0] = n[1] = n[2] = 0;
@@ -370,6 +397,31 @@ static cb_status sample_rec(_cb_ssi_piece *pc, const actx *g, const prim *c, dou
     return piece_add(pc, g, Xb);
 }
 
+/* On a side standing for a B-spline, a point where a parameter is undetermined (a pole of a
+ * B-spline sphere or cone: S_u or S_v vanishes there) takes that parameter from its nearer
+ * neighbour along the piece, so the piece's (u, v) run on without a jump to wherever the
+ * inversion left it. */
+static void piece_fix_degenerate(_cb_ssi_piece *pc, const actx *g)
+{
+    for (int side = 0; side < 2; side++) {
+        const _cb_ssi_image *img = g->s[side].img;
+        if (!img || pc->n < 2)
+            continue;
+        for (slong i = 0; i < pc->n; i++) {
+            double *uv = side ? pc->pt[i].st : pc->pt[i].uv, D[6][3];
+            cb_topo_inverter_eval_derivs(D, img->inv, uv[0], uv[1]);
+            double nu = norm(D[1]), nv = norm(D[2]);
+            for (int d = 0; d < 2; d++) {
+                if (!((d ? nv : nu) <= 1e-9 * (nu + nv)))
+                    continue;
+                slong j = i > 0 ? i - 1 : i + 1;
+                const double *w = side ? pc->pt[j].st : pc->pt[j].uv;
+                uv[d] = w[d];
+            }
+        }
+    }
+}
+
 /* The curve over [ta, tb] as a piece, chords within chord and max_seg (curved primitives
  * start from chords of at most pi/8 of their parameter, so no chord test is fooled). A piece
  * shorter than CB_SSI_CLOSED_FORM_SHORT tol (where a curve touches a range's end) is dropped
@@ -405,6 +457,8 @@ static cb_status emit_piece(_cb_ssi_piece_set *out, const actx *g, const prim *c
         st = sample_rec(pc, g, c, ta + (tb - ta) * (i - 1) / nseg, Xa, t, X, 0);
         memcpy(Xa, X, sizeof Xa);
     }
+    if (st == CB_OK)
+        piece_fix_degenerate(pc, g);
     return st;
 }
 
@@ -1057,6 +1111,24 @@ static void general_fix(cb_ssi_result_t t, const asurf *q, int side)
     }
 }
 
+static double surf_dist(const asurf *s, const double uv[2], const double X[3])
+{
+    double p[3], d[3];
+    if (s->img)
+        cb_topo_inverter_eval(p, s->img->inv, uv[0], uv[1]);
+    else
+        cb_analytic_eval(p, s->a, uv[0], uv[1]);
+    sub(d, p, X);
+    return norm(d);
+}
+
+/* Distances of an output point to both surfaces at its parameters, recorded in r. */
+static void result_dist(cb_ssi_result_t r, const actx *g, const cb_ssi_point *p)
+{
+    r->max_dist_a = fmax(r->max_dist_a, surf_dist(g->s, p->uv_a, p->xyz));
+    r->max_dist_b = fmax(r->max_dist_b, surf_dist(g->s + 1, p->uv_b, p->xyz));
+}
+
 /* The general route. The side whose parameterisation, substituted into the other's equation,
  * gives the lower degree is written as its exact rational B-spline (B on a tie) and the pair
  * runs as analytic/NURBS. The conversion is exact in binary where the angular ranges are whole
@@ -1065,9 +1137,8 @@ static void general_fix(cb_ssi_result_t t, const asurf *q, int side)
  * (the paper's Table 4 torus/ellipsoid pairs). When even that degree is 8 or more (torus
  * against torus: phi of bidegree (8, 8), a minute of topology) both are converted and the pair
  * runs as NURBS/NURBS, where the subdivision route takes it. */
-static cb_status general_route(cb_ssi_result_t r, const actx *g, const cb_ssi_surface *A,
-                               const cb_ssi_surface *B, int fa, int fb, const cb_ssi_opts *opts,
-                               cb_error *err)
+static cb_status general_route(cb_ssi_result_t r, const actx *g, int fa, int fb,
+                               const cb_ssi_opts *opts, cb_error *err)
 {
     const cb_analytic_surface *a = g->s[0].a, *b = g->s[1].a;
     int da = implicit_degree(b) * param_degree(a), db = implicit_degree(a) * param_degree(b);
@@ -1126,9 +1197,9 @@ static cb_status general_route(cb_ssi_result_t r, const actx *g, const cb_ssi_su
             t->max_dist_a = t->max_dist_b = 0;
             for (slong c = 0; c < t->n_curves; c++)
                 for (slong i = 0; i < t->curve[c].n; i++)
-                    _cb_ssi_result_measure(t, A, B, t->curve[c].pt + i);
+                    result_dist(t, g, t->curve[c].pt + i);
             for (slong k = 0; k < t->n_points; k++)
-                _cb_ssi_result_measure(t, A, B, &t->point[k].p);
+                result_dist(t, g, &t->point[k].p);
             if (_cb_ssi_result_move(r, t) != CB_OK)
                 st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory collecting the "
                                   "general route's result");
@@ -1146,9 +1217,20 @@ cb_status _cb_ssi_analytic_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
                                 const cb_ssi_surface *B, int face_a, int face_b,
                                 const cb_ssi_opts *opts, cb_error *err)
 {
+    const _cb_ssi_image *none[2] = {NULL, NULL};
+    return _cb_ssi_analytic_pair_img(r, A, B, none, face_a, face_b, opts, err);
+}
+
+cb_status _cb_ssi_analytic_pair_img(cb_ssi_result_t r, const cb_ssi_surface *A,
+                                    const cb_ssi_surface *B, const _cb_ssi_image *const img[2],
+                                    int face_a, int face_b, const cb_ssi_opts *opts,
+                                    cb_error *err)
+{
     actx g;
     memset(&g, 0, sizeof g);
     int ba = asurf_set(g.s, A), bb = asurf_set(g.s + 1, B);
+    g.s[0].img = img[0];
+    g.s[1].img = img[1];
     if (!ba && !bb)
         return cb_error_set(err, CB_ERR_INVALID,
                             "ssi: %s and %s both unbounded: give one of them a finite range",
@@ -1218,8 +1300,10 @@ cb_status _cb_ssi_analytic_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
         P.general = 1;
     /* Surfaces of the general route that coincide (ellipsoids) are found there by proof: phi
      * identically zero, or bounded within tol (ssi_coincide.c). */
+    if (P.general && (img[0] || img[1]))
+        return CB_OK;
     if (P.general)
-        return general_route(r, &g, A, B, face_a, face_b, opts, err);
+        return general_route(r, &g, face_a, face_b, opts, err);
 
     r->pairs_total++;
     r->pairs_closed_form++;
@@ -1227,8 +1311,12 @@ cb_status _cb_ssi_analytic_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
         /* A point of A (the middle of its range) and the normals of both there. Exact when
          * the exact equations agree; otherwise the closed form's comparison within tol. */
         double X[3], na[3], nb[3];
-        cb_analytic_eval(X, g.s[0].a, 0.5 * (g.s[0].range[0] + g.s[0].range[1]),
-                         0.5 * (g.s[0].range[2] + g.s[0].range[3]));
+        if (img[0]) /* a point of the B-spline A stands for */
+            cb_topo_inverter_eval(X, img[0]->inv, 0.5 * (img[0]->inv->box[0] + img[0]->inv->box[1]),
+                                  0.5 * (img[0]->inv->box[2] + img[0]->inv->box[3]));
+        else
+            cb_analytic_eval(X, g.s[0].a, 0.5 * (g.s[0].range[0] + g.s[0].range[1]),
+                             0.5 * (g.s[0].range[2] + g.s[0].range[3]));
         anormal(na, g.s, X);
         anormal(nb, g.s + 1, X);
         r->pairs_coincident++;
@@ -1277,8 +1365,8 @@ cb_status _cb_ssi_analytic_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
         return cb_error_set(err, st, "ssi: out of memory building the closed-form curves");
     for (slong c = c0; c < r->n_curves; c++)
         for (slong i = 0; i < r->curve[c].n; i++)
-            _cb_ssi_result_measure(r, A, B, r->curve[c].pt + i);
+            result_dist(r, &g, r->curve[c].pt + i);
     for (slong k = p0; k < r->n_points; k++)
-        _cb_ssi_result_measure(r, A, B, &r->point[k].p);
+        result_dist(r, &g, &r->point[k].p);
     return CB_OK;
 }

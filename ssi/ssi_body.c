@@ -135,6 +135,18 @@ static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
         range[2] = fmin(range[2], -CB_SSI_PI / 2);
         range[3] = fmax(range[3], CB_SSI_PI / 2);
     }
+    if (a->kind == CB_ANALYTIC_CONE) {
+        /* A face with its apex as a vertex reaches the apex; the inversion of samples at the
+         * apex rounds to either side of it. The face lies on one nappe: the side of the
+         * sample farthest from the apex. The range stops at the apex. */
+        double apex = -a->r1 / tan(a->angle);
+        if (range[2] < apex && apex < range[3]) {
+            if (apex - range[2] > range[3] - apex)
+                range[3] = apex;
+            else
+                range[2] = apex;
+        }
+    }
     cb_ssi_surface_set_analytic(S, a, range);
     return 1;
 }

@@ -36,7 +36,7 @@ void cb_ssi_opts_default(cb_ssi_opts *o)
     o->threads = 0;
     o->max_phi_degree = 12;
     cb_ctopo_opts_default(&o->topo);
-    o->spline_max_depth = 20;
+    o->spline_max_depth = 30;
     o->spline_max_subpairs = 20000;
     o->recognise = 1;
     o->cancel = NULL;
@@ -269,6 +269,9 @@ typedef struct {
     int c_exact;                 /* coincident exactly (else within c_width <= tol) */
     double c_width;
     _cb_ssi_spline_stats sst;
+    _cb_ssi_tiny_set tiny; /* subdivision route: sub-pairs left for _cb_ssi_tiny_resolve */
+    int tiny_within;       /* a tangent region resolved within tol touched the pair */
+    int within;            /* counted in pairs_within_tolerance (else certified) */
     _cb_ssi_piece_set pieces;
     slong n_marks;
     cb_ssi_mark *marks; /* opts.keep_marks: the graph's vertices; faces and side set later */
@@ -457,7 +460,7 @@ static void spline_run(pair_job *J, const pair_ctx *c)
     }
     _cb_ssi_spline_opts so = {c->opts->spline_max_depth, c->opts->spline_max_subpairs, c->tol,
                               c->chord, c->max_seg};
-    _cb_ssi_spline_pair(&J->pieces, &J->sst, &P, &Q, &so);
+    _cb_ssi_spline_pair(&J->pieces, &J->sst, &P, &Q, &so, &J->tiny, (int)(J - c->job));
     const _cb_ssi_spline_stats *s = &J->sst;
     if (s->nomem) {
         J->st = CB_ERR_NOMEM;
@@ -1017,6 +1020,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                          (long)(N * dq), (long)opts->max_phi_degree);
             }
             _cb_ssi_piece_set_init(&job[nj].pieces);
+            _cb_ssi_tiny_set_init(&job[nj].tiny);
             nj++;
         }
     free_boxes(qobb, pobb, qbox, pbox, qhave, phave);
@@ -1072,9 +1076,81 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
     }
     if (st == CB_OK) {
         _cb_ssi_stitch_set *sets = malloc((size_t)(nj + 1) * sizeof(_cb_ssi_stitch_set));
-        if (!sets)
+        _cb_ssi_piece_set *psets = malloc((size_t)(nj + 1) * sizeof(_cb_ssi_piece_set));
+        _cb_ssi_tiny_set *tiny = malloc((size_t)(nj + 1) * sizeof(_cb_ssi_tiny_set));
+        char *bad = calloc((size_t)nj + 1, 1);
+        long *unres = calloc((size_t)nj + 1, sizeof(long));
+        if (!sets || !psets || !tiny || !bad || !unres)
             st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory for the curves of %ld "
                               "patch pairs", (long)nj);
+        /* Tangent regions the subdivision route left at its floor, resolved over all patch
+         * pairs of the two surfaces at once (a region met by several pairs becomes one point),
+         * on the pieces in the surfaces' domains. */
+        for (slong k = 0; k < nj && st == CB_OK; k++) {
+            pair_job *J = job + k;
+            if (!J->spline && J->st == CB_OK)
+                to_domains(&J->pieces, P ? P[J->ip].dp : NULL, Ps, Q + J->iq);
+            psets[k] = J->pieces;
+            tiny[k] = J->tiny;
+        }
+        long regions = 0, nodes = 0;
+        double wt_width = 0;
+        _cb_ssi_tiny_region *treg = NULL;
+        slong ntreg = 0;
+        char *twithin = calloc((size_t)nj + 1, 1);
+        if (st == CB_OK && !twithin)
+            st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory resolving tangent regions");
+        if (st == CB_OK && _cb_ssi_tiny_resolve(psets, nj, tiny, bad, unres, tol, &regions,
+                                                &nodes, &wt_width, &treg, &ntreg, twithin) < 0)
+            st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory resolving tangent regions");
+        /* Each resolved region listed: a near node (at most tol across), or a contact band
+         * (up to 100 tol, every member proved within tol of the other surface). */
+        for (slong g = 0; g < ntreg && st == CB_OK; g++) {
+            const _cb_ssi_tiny_region *tr = treg + g;
+            const pair_job *J = job + tr->job;
+            int pa = ppat ? J->ip : -1, pb = J->iq;
+            cb_ssi_region *rg = _cb_ssi_add_region(
+                r, tr->width <= tol ? CB_SSI_REGION_NEAR_NODE : CB_SSI_REGION_CONTACT_BAND, fa,
+                fb, swapped ? pb : pa, swapped ? pa : pb, tr->width);
+            if (!rg) {
+                st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory recording a tangent "
+                                  "region");
+                break;
+            }
+            memcpy(rg->lo, tr->lo, sizeof rg->lo);
+            memcpy(rg->hi, tr->hi, sizeof rg->hi);
+            double *bp = swapped ? rg->box_b : rg->box_a, *bq = swapped ? rg->box_a : rg->box_b;
+            for (int d = 0; d < 2; d++) {
+                bp[2 * d] = bp[2 * d + 1] = tr->uv[d];
+                bq[2 * d] = bq[2 * d + 1] = tr->st[d];
+            }
+        }
+        for (slong k = 0; k < nj && twithin; k++)
+            job[k].tiny_within = twithin[k];
+        free(treg);
+        free(twithin);
+        for (slong k = 0; k < nj && st == CB_OK; k++) {
+            pair_job *J = job + k;
+            J->pieces = psets[k];
+            if (!bad[k])
+                continue;
+            /* A region larger than the tolerance: the pair is not certified. */
+            if (J->st == CB_OK) {
+                J->st = CB_ERR_UNSUPPORTED;
+                snprintf(J->msg, sizeof J->msg,
+                         "subdivision: %ld sub-patch pairs in a tangent region that is neither "
+                         "within tol nor proved within tol of the other surface (%ld examined)",
+                         unres[k], J->sst.subpairs);
+            }
+            J->sst.uncertified += unres[k];
+        }
+        free(psets);
+        r->regions_within_tol += regions;
+        r->nodes_within_tol += nodes;
+        r->width_within_tol = fmax(r->width_within_tol, wt_width);
+        free(tiny);
+        free(bad);
+        free(unres);
         slong n_coinc = 0, first_coinc = -1;
         int c_exact = 1;
         double c_width = 0;
@@ -1123,13 +1199,14 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                     memcpy(swapped ? f->box_b : f->box_a, bp, sizeof bp);
                     memcpy(swapped ? f->box_a : f->box_b, bq, sizeof bq);
                 }
+            } else if (J->tiny_within) {
+                r->pairs_within_tolerance++;
+                J->within = 1;
             } else {
                 r->pairs_certified++;
                 r->pairs_empty += J->empty;
             }
             r->pairs_subdivided += J->fallback;
-            if (!J->spline)
-                to_domains(&J->pieces, P ? P[J->ip].dp : NULL, Ps, Q + J->iq);
             _cb_ssi_stitch_set *S = sets + k;
             S->ps = &J->pieces;
             S->patch_a = pa;
@@ -1183,7 +1260,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
          * (a failure record of its own says so), are certified no longer. */
         for (slong k = 0; k < nj && st == CB_OK; k++)
             if (sets[k].outcome != CB_SSI_CERTIFIED && job[k].st == CB_OK &&
-                !job[k].coincident) {
+                !job[k].coincident && !job[k].within) {
                 r->pairs_certified--;
                 if (sets[k].outcome == CB_SSI_WITHIN_TOL)
                     r->pairs_within_tolerance++;
@@ -1197,6 +1274,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
     }
     for (slong k = 0; k < nj; k++) {
         _cb_ssi_piece_set_clear(&job[k].pieces);
+        _cb_ssi_tiny_set_clear(&job[k].tiny);
         free(job[k].marks);
     }
     free(job);

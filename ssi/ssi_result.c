@@ -221,6 +221,9 @@ cb_status _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s)
     r->pairs_coincident += s->pairs_coincident;
     r->pairs_closed_form += s->pairs_closed_form;
     r->subpairs += s->subpairs;
+    r->regions_within_tol += s->regions_within_tol;
+    r->nodes_within_tol += s->nodes_within_tol;
+    r->width_within_tol = fmax(r->width_within_tol, s->width_within_tol);
     r->max_dist_a = fmax(r->max_dist_a, s->max_dist_a);
     r->max_dist_b = fmax(r->max_dist_b, s->max_dist_b);
     r->time_topo += s->time_topo;

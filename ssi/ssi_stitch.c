@@ -15,6 +15,7 @@ void _cb_ssi_end_init(_cb_ssi_end *e)
 {
     memset(e, 0, sizeof(*e));
     e->vid = -1;
+    e->region = -1;
 }
 
 void _cb_ssi_end_clear(_cb_ssi_end *e)
@@ -637,6 +638,23 @@ static cb_status join_ends(joiner *J)
 {
     item *it = J->it;
     slong ni = J->ni;
+    /* 0. Ends moved onto the point of one tangent region resolved within the tolerance
+     * (_cb_ssi_tiny_resolve; its region is listed already). */
+    for (slong i = 0; i < ni; i++)
+        for (int e = 0; e < (it[i].p->isolated ? 1 : 2); e++) {
+            slong rg = it[i].p->end[e].region;
+            if (rg < 0 || it[i].p->closed)
+                continue;
+            J->decided[2 * i + e] = J->within[2 * i + e] = 1;
+            set_outcome(J->sets, it[i].set, CB_SSI_WITHIN_TOL);
+            for (slong j = 0; j < i; j++)
+                for (int f = 0; f < (it[j].p->isolated ? 1 : 2); f++)
+                    if (!it[j].p->closed && it[j].p->end[f].region == rg) {
+                        uf_union(J->par, 2 * j + f, 2 * i + e);
+                        j = i; /* one union suffices: the earlier ones are joined already */
+                        break;
+                    }
+        }
     /* 1. The same vertex of one pair's graph. */
     for (slong i = 0; i < ni; i++)
         for (int e = 0; e < (it[i].p->isolated ? 1 : 2); e++) {

@@ -419,12 +419,14 @@ void _cb_ssi_vertex_refine(cb_ctopo_t T, const _cb_ssi_sqf *h)
         double a = fmpq_get_d(V->t_lo), b = fmpq_get_d(V->t_hi);
         int simple = V->kind == CB_CTOPO_FIBRE || V->kind == CB_CTOPO_BOUNDARY;
         /* A simple root: h changes sign over the box. A multiple one (fold, cusp, isolated
-         * point): h_t does, or else |h| is least at it. */
+         * point): h_t does, or else |h| is least at it. A simple root whose h shows one sign
+         * at both ends in doubles lies within round-off of an end (the box holds one root and
+         * h is monotone in t there): |h| is least at it too. Left at the box's midpoint, such
+         * a vertex put a spur half a patch long into the curve (a plane parallel to a torus's
+         * axis crossing a rational patch's side a round-off distance from its corner). */
         double (*f)(const _cb_ssi_sqf *, double, double) = simple ? sqf_eval : sqf_eval_t;
         double fa = f(h, V->s, a), fb = f(h, V->s, b);
         if (!(fa * fb < 0)) {
-            if (simple)
-                continue;
             const double g = 0.6180339887498949;
             double x1 = b - g * (b - a), x2 = a + g * (b - a);
             double f1 = fabs(sqf_eval(h, V->s, x1)), f2 = fabs(sqf_eval(h, V->s, x2));

@@ -295,6 +295,22 @@ static void test_paraboloid_plane(void)
     cb_ssi_opts_default(&o);
     o.tol = 1e-7;
     o.threads = 1;
+    /* The algebraic route (the plane implicit, phi of bidegree (2, 2)): the circle's folds
+     * lie on the patch sides y = 1/2 up to the rounding of the turned plane, 2^-53 away,
+     * which the topology separates only with deep enough fibre partitions. */
+    cb_ssi_result_t r0;
+    run(r0, p, q, &o, "paraboloid x plane, algebraic");
+    CHECK(r0->status == CB_OK && r0->n_failed == 0 && r0->pairs_subdivided == 0,
+          "algebraic: %ld pairs not certified, %ld subdivided: %s", (long)r0->n_failed,
+          (long)r0->pairs_subdivided, r0->n_failed ? r0->failed[0].msg : "");
+    CHECK(r0->n_curves == 1 && r0->n_points == 0 && circle_error(r0, R, alpha, z0) < 1e-6,
+          "algebraic: curves %ld points %ld", (long)r0->n_curves, (long)r0->n_points);
+    if (r0->n_curves == 1)
+        CHECK(r0->curve[0].closed, "algebraic: the circle is not closed");
+    cb_ssi_result_clear(r0);
+    /* The subdivision route on the same pair (max_phi_degree 1 keeps it off the algebraic
+     * route). */
+    o.max_phi_degree = 1;
     cb_ssi_result_t r1, r2;
     run(r1, p, q, &o, "paraboloid x plane, 1 thr");
     check_certified(r1, "paraboloid x plane, 1 thr");
@@ -864,6 +880,158 @@ static void test_fallback(void)
     cb_topo_body_free(B);
 }
 
+/* A bicubic graph pair: P the graph of a random cubic f over [0, 1]^2, Q the graph of f + h
+ * parameterised over [-0.13, 1.07] x [-0.05, 1.11] (so no side of one lies on a side of the
+ * other), both turned by one rotation of no special angle. The intersection is {h = 0}. */
+static void graph_pair(cb_nurbs_surface_t a, cb_nurbs_surface_t b, const double hp[16],
+                       unsigned seed)
+{
+    check_rng rng = {seed};
+    double fp[16], qp[16], fb[16], qb[16], P[48], Q[48];
+    for (int k = 0; k < 16; k++) {
+        fp[k] = check_rng_uniform(&rng, -0.15, 0.15);
+        qp[k] = fp[k] + hp[k];
+    }
+    const double dq[4] = {-0.13, 1.07, -0.05, 1.11};
+    cb_power_to_bernstein_2d(fb, fp, 3, 3, 0, 1, 0, 1);
+    cb_power_to_bernstein_2d(qb, qp, 3, 3, dq[0], dq[1], dq[2], dq[3]);
+    double q[4] = {0.31, -0.52, 0.67, 0.43}, n = 0;
+    for (int k = 0; k < 4; k++)
+        n += q[k] * q[k];
+    for (int k = 0; k < 4; k++)
+        q[k] /= sqrt(n);
+    double x = q[0], y = q[1], z = q[2], w = q[3];
+    double R[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)},
+                      {2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)},
+                      {2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)}};
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) {
+            double p[3] = {i / 3.0, j / 3.0, fb[4 * i + j]},
+                   r[3] = {dq[0] + (dq[1] - dq[0]) * i / 3.0, dq[2] + (dq[3] - dq[2]) * j / 3.0,
+                           qb[4 * i + j]};
+            for (int c = 0; c < 3; c++) {
+                P[3 * (4 * i + j) + c] = R[c][0] * p[0] + R[c][1] * p[1] + R[c][2] * p[2] + 0.1234;
+                Q[3 * (4 * i + j) + c] = R[c][0] * r[0] + R[c][1] * r[1] + R[c][2] * r[2] + 0.1234;
+            }
+        }
+    double kn[8] = {0, 0, 0, 0, 1, 1, 1, 1};
+    cb_error err;
+    CHECK(cb_nurbs_surface_make(a, 3, 3, kn, 8, kn, 8, P, NULL, 4, 4, &err) == CB_OK &&
+              cb_nurbs_surface_make(b, 3, 3, kn, 8, kn, 8, Q, NULL, 4, 4, &err) == CB_OK,
+          "graph pair: %s", err.msg);
+}
+
+/* The subdivision route where the surfaces are tangent (tolerance-certificates.md sections 2
+ * and 5), on bicubic graph pairs in a turned pose: a node of two transversal lines (h = (x -
+ * 1/2)(y - 1/2): P and Q tangent where they cross) comes out as four curves sharing one end
+ * point exactly; an isolated contact (h = (x - 1/2)^2 + (y - 1/2)^2) as one isolated point;
+ * both as regions resolved within the tolerance, every output point within tol of both
+ * surfaces. A transversal circle stays certified with no such region; surfaces touching
+ * along a line (h = (x - 1/2)^2) are still refused (a contact band is not traced yet). */
+static void test_tangent_regions(void)
+{
+    double node[16] = {0}, contact[16] = {0}, circle[16] = {0}, line[16] = {0};
+    node[0] = 0.25, node[4] = -0.5, node[1] = -0.5, node[5] = 1;
+    contact[0] = 0.5, contact[4] = -1, contact[8] = 1, contact[1] = -1, contact[2] = 1;
+    circle[0] = 0.47 * 0.47 + 0.53 * 0.53 - 0.061, circle[4] = -0.94, circle[8] = 1;
+    circle[1] = -1.06, circle[2] = 1;
+    line[0] = 0.25, line[4] = -1, line[8] = 1;
+    const double *h[4] = {node, contact, circle, line};
+    const char *names[4] = {"bicubic node", "bicubic contact point", "bicubic circle",
+                            "bicubic tangential line"};
+    for (int c = 0; c < 4; c++)
+        for (unsigned seed = 1; seed <= 3; seed++) {
+            cb_nurbs_surface_t a, b;
+            cb_nurbs_surface_init(a);
+            cb_nurbs_surface_init(b);
+            graph_pair(a, b, h[c], seed);
+            cb_ssi_opts o;
+            cb_ssi_opts_default(&o);
+            o.tol = 1e-6;
+            o.threads = 1;
+            cb_ssi_result_t r;
+            run(r, a, b, &o, names[c]);
+            if (c == 3) {
+                CHECK(r->n_failed > 0, "%s seed %u: not refused", names[c], seed);
+            } else {
+                CHECK(r->status == CB_OK && r->n_failed == 0, "%s seed %u: %ld failures: %s",
+                      names[c], seed, (long)r->n_failed, r->n_failed ? r->failed[0].msg : "");
+                CHECK(max_dist(r, a, b) <= o.tol, "%s seed %u: distance %g", names[c], seed,
+                      max_dist(r, a, b));
+            }
+            if (c == 0 && r->n_curves == 4) {
+                /* four curves, each with one end on the shared node */
+                const double *e0 = NULL;
+                int at = 0;
+                for (slong k = 0; k < 4; k++) {
+                    const cb_ssi_curve *cv = r->curve + k;
+                    for (int e = 0; e < 2; e++) {
+                        const double *X = cv->pt[e ? cv->n - 1 : 0].xyz;
+                        if (!e0 && cv->closed == 0) {
+                            /* the node: the end shared by every curve */
+                            for (slong k2 = 0; k2 < 4; k2++)
+                                for (int e2 = 0; e2 < 2; e2++) {
+                                    const cb_ssi_curve *c2 = r->curve + k2;
+                                    const double *Y = c2->pt[e2 ? c2->n - 1 : 0].xyz;
+                                    at += !memcmp(X, Y, sizeof(double[3]));
+                                }
+                            if (at == 4)
+                                e0 = X;
+                            at = 0;
+                        }
+                    }
+                }
+                CHECK(e0 != NULL, "%s seed %u: the four curves share no end point", names[c],
+                      seed);
+            } else if (c == 0) {
+                CHECK(0, "%s seed %u: %ld curves, expected 4", names[c], seed,
+                      (long)r->n_curves);
+            }
+            if (c < 2)
+                CHECK(r->regions_within_tol == 1 && r->nodes_within_tol == (c == 0) &&
+                          r->width_within_tol <= 100 * o.tol,
+                      "%s seed %u: %ld regions within tol, %ld nodes, width %g", names[c], seed,
+                      (long)r->regions_within_tol, (long)r->nodes_within_tol,
+                      r->width_within_tol);
+            if (c == 2)
+                CHECK(r->regions_within_tol == 0, "%s seed %u: %ld regions within tol",
+                      names[c], seed, (long)r->regions_within_tol);
+            /* Outcomes: the node's and the contact's regions listed (near node or contact
+             * band; at the node also the stitching's near nodes of the pieces' round-off ends
+             * around it), the pair within tolerance, the curves through the node not
+             * certified; the circle certified throughout. */
+            if (c < 2) {
+                int kinds = 0, uncertified = 0;
+                for (slong g = 0; g < r->n_regions; g++)
+                    kinds += r->region[g].kind == CB_SSI_REGION_NEAR_NODE ||
+                             r->region[g].kind == CB_SSI_REGION_CONTACT_BAND;
+                for (slong k = 0; k < r->n_curves; k++)
+                    uncertified += !r->curve[k].certified;
+                for (slong k = 0; k < r->n_points; k++)
+                    uncertified += !r->point[k].certified;
+                CHECK(kinds >= 1 && kinds == r->n_regions && r->pairs_within_tolerance == 1 &&
+                          r->pairs_certified == 0 &&
+                          uncertified == (c == 0 ? (int)r->n_curves : (int)r->n_points),
+                      "%s seed %u: %ld regions (%d tangent), %ld within tolerance, %ld "
+                      "certified, %d not certified",
+                      names[c], seed, (long)r->n_regions, kinds,
+                      (long)r->pairs_within_tolerance, (long)r->pairs_certified, uncertified);
+            }
+            if (c == 2)
+                check_certified(r, names[c]);
+            if (c == 1)
+                CHECK(r->n_curves == 0 && r->n_points == 1, "%s seed %u: %ld curves, %ld points",
+                      names[c], seed, (long)r->n_curves, (long)r->n_points);
+            if (c == 2)
+                CHECK(r->n_curves == 1 && r->curve[0].closed && r->n_points == 0,
+                      "%s seed %u: %ld curves, %ld points", names[c], seed, (long)r->n_curves,
+                      (long)r->n_points);
+            cb_ssi_result_clear(r);
+            cb_nurbs_surface_clear(a);
+            cb_nurbs_surface_clear(b);
+        }
+}
+
 int main(int argc, char **argv)
 {
     if (argc > 1 && !strcmp(argv[1], "fallback")) {
@@ -878,6 +1046,7 @@ int main(int argc, char **argv)
     test_touch_exact();
     test_example2_pair();
     test_coincident();
+    test_tangent_regions();
     test_hummingbird();
     test_fallback();
     return check_report("test_ssi_spline");
