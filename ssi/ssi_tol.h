@@ -79,6 +79,16 @@
  * Pieces joining the same nodes otherwise are kept (two branches forming a lens). */
 #define CB_SSI_ON_SIDE_EPS 1e-10
 
+/* ---------------------------------------------------------------- tangent regions --------- */
+
+/* The subdivision route's tangent regions (spline_pair.c, kept there beside the code that
+ * uses them): sub-pairs it cannot certify are not split below TINY_TOL tol in 3D, or STOP_TOL
+ * tol where proved within tol of each other (slab); a cluster of them is resolved within the
+ * tolerance when at most tol across (a NEAR_NODE region), or at most WT_MAX_TOL tol with every
+ * member proved within tol (a CONTACT_BAND region): the piece ends in it moved onto one point
+ * and joined there (within_tolerance; ssi_pairs.c lists the regions). Larger clusters are
+ * refused. */
+
 /* ---------------------------------------------------------------- closed forms ------------ */
 
 /* Analytic/analytic closed forms (ssi_analytic.c) decide special positions on the exact
