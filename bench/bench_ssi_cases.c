@@ -44,6 +44,7 @@
 
 #include "brep/analytic.h"
 #include "bench/bench_spawn.h"
+#include "bench/bench_ssi_pair.h"
 #include "bench/bench_stats.h"
 #include "io/json.h"
 #include "models/models.h"
@@ -449,21 +450,6 @@ static void run_colibri(side *o, const ssi_case *c, int runs, double *tol)
     }
 }
 
-static void write_nurbs(FILE *f, const cb_nurbs_surface_struct *s)
-{
-    fprintf(f, "nurbs %d %d %d %d\n", s->deg_u, s->deg_v, s->n_u, s->n_v);
-    for (int i = 0; i < s->n_u + s->deg_u + 1; i++)
-        fprintf(f, "%.17g ", s->knots_u[i]);
-    fputs("\n", f);
-    for (int i = 0; i < s->n_v + s->deg_v + 1; i++)
-        fprintf(f, "%.17g ", s->knots_v[i]);
-    fputs("\n", f);
-    for (long k = 0; k < (long)s->n_u * s->n_v; k++) {
-        const double *h = s->cw + 4 * k;
-        fprintf(f, "%.17g %.17g %.17g %.17g\n", h[0] / h[3], h[1] / h[3], h[2] / h[3], h[3]);
-    }
-}
-
 /* The comparator's input: the two surfaces (see occt_ssi.cpp for the format). */
 static int write_pair(const char *path, const ssi_case *c)
 {
@@ -476,10 +462,10 @@ static int write_pair(const char *path, const ssi_case *c)
         fprintf(f, "torus %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
                 fr->o[0], fr->o[1], fr->o[2], fr->z[0], fr->z[1], fr->z[2], fr->x[0], fr->x[1],
                 fr->x[2], t->r1, t->r2);
-        write_nurbs(f, c->occt_b);
+        bench_write_nurbs(f, c->occt_b);
     } else {
-        write_nurbs(f, c->na);
-        write_nurbs(f, c->nb);
+        bench_write_nurbs(f, c->na);
+        bench_write_nurbs(f, c->nb);
     }
     return fclose(f) == 0;
 }

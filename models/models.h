@@ -99,6 +99,117 @@ cb_status cb_model_graph_pair(cb_nurbs_surface_t P, cb_nurbs_surface_t Q, cb_mod
 /* The point of P (moved) over (u, v): where the curve h(u, v) = 0 lies in space. */
 void cb_model_graph_point(double X[3], const cb_model_graph *g, double u, double v);
 
+/* ---------------------------------------------------------------- graph cases (SSI corpus) - */
+
+/* Cases of the randomized SSI corpus (graph_generic.c; issue 22, class 2): two whole B-spline
+ * surfaces P and Q whose intersection is a designed curve, in three poses. Over the design
+ * square (x, y) in [0, 1]^2, P is the graph of a height f and Q the graph of f + h, so that
+ * they meet exactly where the designed polynomial h vanishes; the classes of h cover the
+ * paper's Fig. 1 (crossing, isolated contacts, boundary curves, touching branches, tangential
+ * curves, several contacts) and more (cusps, nodes, small and close loops, several components).
+ * A point (x, y, z) of the design space is in the world at R diag(L) (x, y, z) + T.
+ *
+ * Poses:
+ *   EXACT    cb_model_graph_pair: f its biquadratic, h an integer polynomial (parameters on a
+ *            dyadic grid), every control point exact in binary, a motion that permutes axes;
+ *   PARAM    the generic surfaces below, moved by a rotation that permutes (and flips) axes
+ *            and a dyadic translation;
+ *   GENERIC  f a random spline of bidegree (3, 3) (sometimes (4, 4), (5, 3), (3, 5)) with random
+ *            interior knots (none of them dyadic; in half the cases none, and P and Q get
+ *            knots of their own instead) and random control values; h with random
+ *            parameters; Q = f + h degree-elevated to h's degrees, with knots of its own, often
+ *            over a larger rectangle than P's square; P sometimes elevated or refined once
+ *            more; each parametrised by its own affine maps (non-dyadic scales and offsets,
+ *            reversal, transposition); both moved by one random rigid motion (a random unit
+ *            quaternion, a random translation) after a random scaling of the design axes.
+ * Every case is built from (class, pose, index) alone: deterministic on any machine. The
+ * stored surfaces differ from the design by rounding (about 1e-16 of their size), far below
+ * the SSI's tolerance (1e-6 of the size): the truth is the designed curve, within tolerance. */
+typedef enum {
+    CB_GRAPH_CLASS_LOOP,             /* one transversal loop */
+    CB_GRAPH_CLASS_TWO_LOOPS,        /* two disjoint loops */
+    CB_GRAPH_CLASS_CLOSE_LOOPS,      /* two loops a small gap apart */
+    CB_GRAPH_CLASS_CROSSING_LOOPS,   /* Fig. 1a: two loops crossing at two nodes */
+    CB_GRAPH_CLASS_NODE,             /* two lines crossing at a node */
+    CB_GRAPH_CLASS_CUSP,             /* a semicubical cusp */
+    CB_GRAPH_CLASS_CONTACT_BRANCHES, /* Fig. 1b: an isolated contact between two branches */
+    CB_GRAPH_CLASS_BOUNDARY,         /* Fig. 1c: two boundary sides and an arc */
+    CB_GRAPH_CLASS_TANGENT_SIDES,    /* Fig. 1d: four boundary sides and a tangential line */
+    CB_GRAPH_CLASS_LOOPS_TOUCHING,   /* Fig. 1e: two loops touching at one point */
+    CB_GRAPH_CLASS_TANGENTIAL_LOOP,  /* Fig. 1f: contact along a whole loop */
+    CB_GRAPH_CLASS_TANGENTIAL_LINE,  /* contact along a curve across the square */
+    CB_GRAPH_CLASS_CONTACTS,         /* Fig. 1g: several isolated contact points */
+    CB_GRAPH_CLASS_SMALL_LOOP,       /* a loop of radius 1e-3 to 4e-3 */
+    CB_GRAPH_CLASS_MULTI,            /* a loop, an open branch and an isolated contact */
+    CB_GRAPH_CLASS_COUNT
+} cb_graph_class;
+
+typedef enum { CB_GRAPH_POSE_EXACT, CB_GRAPH_POSE_PARAM, CB_GRAPH_POSE_GENERIC,
+               CB_GRAPH_POSE_COUNT } cb_graph_pose;
+
+/* Short names ("tangential_loop", "generic") and the Fig. 1 panel of a class ("1f" or "-"). */
+const char *cb_graph_class_name(int cls);
+const char *cb_graph_class_fig(int cls);
+const char *cb_graph_pose_name(int pose);
+
+/* A piece of the designed curve h = 0 in the design plane (clipped to the square when used):
+ *   CIRCLE  centre (a[0], a[1]), radius a[2];
+ *   LINE    through (a[0], a[1]) with direction angle a[2];
+ *   CUSP    (y')^2 = a[3] (x')^3 in the frame at (a[0], a[1]) turned by a[2];
+ *   POINT   (a[0], a[1]): an isolated contact. */
+typedef enum { CB_GRAPH_CIRCLE, CB_GRAPH_LINE, CB_GRAPH_CUSP, CB_GRAPH_POINT } cb_graph_prim_kind;
+
+typedef struct {
+    cb_graph_prim_kind kind;
+    double a[4];
+    int tangential; /* on a squared factor of h: the surfaces touch along it */
+} cb_graph_prim;
+
+#define CB_GRAPH_MAX_PRIMS 6
+#define CB_GRAPH_MAX_SINGULAR 8
+
+typedef struct {
+    int cls, pose, index;
+    char id[64]; /* "class/pose/index" */
+    cb_nurbs_surface_t P, Q;  /* the pair, in the world */
+    cb_nurbs_surface_t F;     /* the design height: F(x, y) = (x, y, f(x, y)) over a rectangle
+                                 holding the square, unmoved */
+    double h[CB_MODEL_POLY_DEG + 1][CB_MODEL_POLY_DEG + 1]; /* Q's height minus P's, power
+                                                               basis: sum h[i][j] x^i y^j */
+    double R[3][3], T[3], L[3]; /* design to world: R diag(L) p + T */
+    cb_graph_prim prim[CB_GRAPH_MAX_PRIMS];
+    int n_prims;
+    double singular[CB_GRAPH_MAX_SINGULAR][2]; /* nodes, cusps, points where branches touch or
+                                                  a tangential curve meets another branch */
+    int n_singular;
+    int closed, open, points; /* true components: closed curves (touching no side), curves
+                                 reaching the square's sides, isolated points */
+    char truth[80];           /* in words */
+    double size;              /* diagonal of the box of both control nets */
+    int shared_knots;         /* generic poses: interior knot lines of f inside the square,
+                                 which P and Q share (Q = f + h has f's breaks) */
+    int q_larger;             /* generic poses: Q spans a rectangle larger than the square */
+} cb_graph_case;
+
+void cb_graph_case_init(cb_graph_case *c);
+void cb_graph_case_clear(cb_graph_case *c);
+/* Builds case (cls, pose, index) into c (replacing what it held). CB_ERR_INVALID for a class
+ * or pose out of range, or when the exact pose's generator refuses the designed polynomial;
+ * errors of the B-spline operations. */
+cb_status cb_graph_case_make(cb_graph_case *c, int cls, int pose, int index, cb_error *err);
+/* World point X to design coordinates p = (x, y, z). */
+void cb_graph_case_design(double p[3], const cb_graph_case *c, const double X[3]);
+/* The point of P over the design point (x, y), in the world. */
+void cb_graph_case_lift(double X[3], const cb_graph_case *c, double x, double y);
+/* Vertical distances (along the moved design z axis, world units) of X from P and from Q:
+ * upper bounds of its distances to the two graphs (over (x, y) clamped to the square). */
+void cb_graph_case_residual(double *dp, double *dq, const cb_graph_case *c, const double X[3]);
+/* Design-plane point of primitive k at parameter s (circle: angle; line: signed length from
+ * its point; cusp: sigma with x' = sigma^2, y' = sqrt(a[3]) sigma^3) and its parameter range
+ * wide enough to cross the square ([0, 0] for a point). */
+void cb_graph_prim_point(double xy[2], const cb_graph_prim *p, double s);
+void cb_graph_prim_range(double *s0, double *s1, const cb_graph_prim *p);
+
 /* ---------------------------------------------------------------- hummingbird -------------- */
 
 /* The model is built in its own frame (x forward to the beak, y to the left wing, z up), about

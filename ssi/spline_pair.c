@@ -32,6 +32,7 @@ typedef struct {
                         parameters): centres (3 each) and radii bounding every component */
     double nsum[3];  /* sum of the centres: a mean normal direction */
     double lo[3], hi[3], size;
+    int np;          /* control points in enet */
     int child[4], depth;
 } node;
 
@@ -159,6 +160,7 @@ static int node_finish(tree *T, int k)
     if (T->b->rat)
         _cb_ssi_net_eucl(d->enet, d->net, (m + 1) * nv, 4);
     const _cb_iv *P = d->enet;
+    d->np = (m + 1) * nv;
     for (int q = 0; q < 3; q++) {
         d->lo[q] = HUGE_VAL;
         d->hi[q] = -HUGE_VAL;
@@ -367,28 +369,46 @@ static int node_split(tree *T, int k)
 
 /* 1 when the nets' projections on some axis are disjoint (proved: interval nets, rounding
  * margin). */
+/* Range of d . x over the sub-patch (d a unit vector), widened by the rounding of the sums:
+ * over its box's corners, or (net) over each control point's enclosure, which is what a
+ * tilted sub-patch needs (its box projects to about size |d|_1 however flat it is). */
+static void proj_range(double r[2], const node *nd, const double d[3], int net)
+{
+    double lo = HUGE_VAL, hi = -HUGE_VAL, mag = 0;
+    net = net && nd->np > 0;
+    int cnt = net ? nd->np : 1;
+    for (int i = 0; i < cnt; i++) {
+        double l = 0, h = 0;
+        for (int q = 0; q < 3; q++) {
+            double pl = net ? nd->enet[3 * i + q].lo : nd->lo[q];
+            double ph = net ? nd->enet[3 * i + q].hi : nd->hi[q];
+            l += d[q] >= 0 ? d[q] * pl : d[q] * ph;
+            h += d[q] >= 0 ? d[q] * ph : d[q] * pl;
+        }
+        lo = fmin(lo, l);
+        hi = fmax(hi, h);
+    }
+    for (int q = 0; q < 3; q++)
+        mag += fabs(d[q]) * fmax(fabs(nd->lo[q]), fabs(nd->hi[q]));
+    r[0] = lo - 1e-14 * mag;
+    r[1] = hi + 1e-14 * mag;
+}
+
+/* 1 when the sub-patches are disjoint: their boxes, or their control nets along one of the
+ * directions given (the hulls lie on the two sides of a plane normal to it). */
 static int separated(const node *a, const node *b, const double extra[][3], int nextra)
 {
     for (int q = 0; q < 3; q++)
         if (a->hi[q] < b->lo[q] || b->hi[q] < a->lo[q])
             return 1;
-    for (int x = 0; x < nextra; x++) {
-        const double *d = extra[x];
-        double r[2][2];
-        const node *nd[2] = {a, b};
-        for (int s = 0; s < 2; s++) {
-            double lo = 0, hi = 0, mag = 0;
-            for (int q = 0; q < 3; q++) {
-                lo += d[q] >= 0 ? d[q] * nd[s]->lo[q] : d[q] * nd[s]->hi[q];
-                hi += d[q] >= 0 ? d[q] * nd[s]->hi[q] : d[q] * nd[s]->lo[q];
-                mag += fabs(d[q]) * fmax(fabs(nd[s]->lo[q]), fabs(nd[s]->hi[q]));
-            }
-            r[s][0] = lo - 1e-14 * mag;
-            r[s][1] = hi + 1e-14 * mag;
+    for (int net = 0; net < 2; net++)
+        for (int x = 0; x < nextra; x++) {
+            double r[2][2];
+            proj_range(r[0], a, extra[x], net);
+            proj_range(r[1], b, extra[x], net);
+            if (r[0][1] < r[1][0] || r[1][1] < r[0][0])
+                return 1;
         }
-        if (r[0][1] < r[1][0] || r[1][1] < r[0][0])
-            return 1;
-    }
     return 0;
 }
 
@@ -398,17 +418,23 @@ static int edge_separated(const node *c, int m, int n, int side, const node *s,
                           const double extra[][3], int nextra)
 {
     node t;
+    _cb_iv pts[3 * 32];
     for (int q = 0; q < 3; q++) {
         t.lo[q] = HUGE_VAL;
         t.hi[q] = -HUGE_VAL;
     }
     int cnt = side < 2 ? n + 1 : m + 1;
+    /* The side's own control points when they fit (its box alone otherwise). */
+    t.enet = pts;
+    t.np = cnt <= 32 ? cnt : 0;
     for (int k = 0; k < cnt; k++) {
         int i = side == 0 ? 0 : side == 1 ? m : k, j = side == 2 ? 0 : side == 3 ? n : k;
         const _cb_iv *p = c->enet + 3 * (i * (n + 1) + j);
         for (int q = 0; q < 3; q++) {
             t.lo[q] = fmin(t.lo[q], p[q].lo);
             t.hi[q] = fmax(t.hi[q], p[q].hi);
+            if (t.np)
+                pts[3 * k + q] = p[q];
         }
     }
     return separated(&t, s, extra, nextra);
@@ -477,21 +503,12 @@ static int slab_within(const node *A, const node *B, int na, int nb, double w)
         n[q] /= ln;
     const double N1 = fabs(n[0]) + fabs(n[1]) + fabs(n[2]), eps = 0x1p-52;
     /* The slab: n . x over every control point enclosure of both. */
-    double lo = HUGE_VAL, hi = -HUGE_VAL;
-    const node *nd[2] = {A, B};
-    for (int s = 0; s < 2; s++) {
-        /* n . x is linear: its range over the net's box is that over the box's corners */
-        double l = 0, h = 0, mag = 0;
-        for (int q = 0; q < 3; q++) {
-            l += n[q] >= 0 ? n[q] * nd[s]->lo[q] : n[q] * nd[s]->hi[q];
-            h += n[q] >= 0 ? n[q] * nd[s]->hi[q] : n[q] * nd[s]->lo[q];
-            mag += fabs(n[q]) * fmax(fabs(nd[s]->lo[q]), fabs(nd[s]->hi[q]));
-        }
-        lo = fmin(lo, l - 4 * eps * mag);
-        hi = fmax(hi, h + 4 * eps * mag);
-    }
-    if (!(hi - lo <= w))
+    double ra[2], rb[2];
+    proj_range(ra, A, n, 1);
+    proj_range(rb, B, n, 1);
+    if (!(fmax(ra[1], rb[1]) - fmin(ra[0], rb[0]) <= w))
         return 0;
+    const node *nd[2] = {A, B};
     /* Graphs: every normal coefficient on the same side of n (A's as given, B's times sb). */
     const int cnt[2] = {na, nb};
     const double sg[2] = {1, sb};
@@ -1002,6 +1019,32 @@ static int in_box(const double X[3], const double lo[3], const double hi[3], dou
     return 1;
 }
 
+/* 1 when the segment from X to Y meets the box grown by slack (clipped slab by slab). */
+static int seg_meets_box(const double X[3], const double Y[3], const double lo[3],
+                         const double hi[3], double slack)
+{
+    double t0 = 0, t1 = 1;
+    for (int q = 0; q < 3; q++) {
+        double a = lo[q] - slack, b = hi[q] + slack, d = Y[q] - X[q];
+        if (d == 0) {
+            if (X[q] < a || X[q] > b)
+                return 0;
+            continue;
+        }
+        double ta = (a - X[q]) / d, tb = (b - X[q]) / d;
+        if (ta > tb) {
+            double w = ta;
+            ta = tb;
+            tb = w;
+        }
+        t0 = fmax(t0, ta);
+        t1 = fmin(t1, tb);
+        if (t0 > t1)
+            return 0;
+    }
+    return 1;
+}
+
 /* By low x, then by the order of arrival (root holds it while sorting). */
 static int cmp_tiny(const void *x, const void *y)
 {
@@ -1129,7 +1172,7 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
                 within[t[i].job] = 1;
         /* Branch ends in the region (grown by the tolerance) move onto the point; a piece
          * lying wholly in it (between two of its sub-pairs) is dropped. */
-        int ends = 0;
+        int ends = 0, touched = 0;
         for (slong k = 0; k < nsets; k++) {
             _cb_ssi_piece_set *out = sets + k;
             for (slong q = 0; q < out->n; q++) {
@@ -1139,6 +1182,11 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
                 int inside = 1;
                 for (slong i = 0; i < pc->n && inside; i++)
                     inside = in_box(pc->xyz + 3 * i, lo, hi, tol);
+                /* The polyline's vertices may all lie outside a region its chords cross. */
+                for (slong i = 0; i < pc->n && !touched; i++)
+                    touched = i + 1 < pc->n
+                                  ? seg_meets_box(pc->xyz + 3 * i, pc->xyz + 3 * (i + 1), lo, hi, tol)
+                                  : in_box(pc->xyz + 3 * i, lo, hi, tol);
                 if (inside) {
                     _cb_ssi_piece_clear(pc);
                     memmove(pc, pc + 1, (size_t)(out->n - q - 1) * sizeof *pc);
@@ -1160,7 +1208,10 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
                 }
             }
         }
-        if (ends == 0) {
+        /* No end and no branch through it: one isolated contact point. A region a branch
+         * runs through or beside (surfaces crossing at a small angle near it) is that
+         * branch's. */
+        if (ends == 0 && !touched) {
             _cb_ssi_piece *pc = _cb_ssi_piece_set_add(sets + t[c].job);
             if (!pc || _cb_ssi_piece_push(pc, &node_pq, X) != CB_OK) {
                 st = -1;
