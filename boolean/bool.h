@@ -209,6 +209,11 @@ void cb_bool_opts_init(cb_bool_opts *o);
 
 typedef struct {
     int curves, points; /* intersection curves and isolated points (SSI) */
+    /* SSI outcomes (ssi/ssi.h): patch pairs certified, resolved within tolerance, and refused
+     * (failure records; the operation fails when there is one); regions resolved within
+     * tolerance (ssi/ssi_tol.h). */
+    long ssi_certified, ssi_within_tolerance, ssi_refused, ssi_regions;
+    int ssi_done; /* 1 once the intersection has run (the counts are then set) */
     int cuts;           /* curve pieces inside both faces (cb_bool_cuts_make) */
     int pieces[2];      /* face pieces of A and of B after splitting */
     int kept[2];        /* of which the operation keeps */
@@ -223,9 +228,10 @@ typedef struct {
  * every shell a solid's and closed (each edge used by two coedges): CB_ERR_INVALID naming
  * what fails otherwise; both in the same length unit (CB_ERR_UNSUPPORTED otherwise).
  *
- * Method: the intersection curves of every face pair (cb_ssi_bodies; a pair that cannot be
- * certified makes the operation fail with CB_ERR_UNSUPPORTED or the pair's status, naming
- * it: nothing is guessed), restricted to both faces (cb_bool_cuts_make); each face of A and B
+ * Method: the intersection curves of every face pair (cb_ssi_bodies; a refused pair, one
+ * neither certified nor resolved within tolerance, makes the operation fail with
+ * CB_ERR_UNSUPPORTED or the pair's status, naming it: nothing is guessed; pairs resolved
+ * within tolerance are counted in stats), restricted to both faces (cb_bool_cuts_make); each face of A and B
  * split in its (u, v) domain along its cuts (the 2D arrangement of its loop polygon and cuts,
  * boolean/arrange.h); each region classified by a point inside it against the other solid
  * (cb_bool_solid_classify; when that point lies on the other solid, by points beside it, so a

@@ -165,7 +165,7 @@ cb_status _cb_cuts_imprint(cb_bool_cuts *out, const cb_ssi_result_struct *r,
         cut_ctx cx;
         _cb_cut_ctx_init(&cx, cb_bool_solid_face(A, c->face_a), cb_bool_solid_face(B, c->face_b),
                          tol);
-        cb_ssi_curve pair = {0, NULL, 0, 1, c->face_a, c->face_b};
+        cb_ssi_curve pair = {0, NULL, 0, 1, c->face_a, c->face_b, 1};
         for (int own = 0; own < 2 && !st; own++) {
             const cb_face *F = cx.f[own];
             for (int j = 0; j < F->n_edges && !st; j++)

@@ -595,6 +595,11 @@ cb_status cb_bool_run(cb_topo_body **out, cb_bool_stats *stats, cb_bool_op op,
     cb_status st = cb_ssi_bodies(r, A, B, &so, err);
     stats->curves = (int)r->n_curves;
     stats->points = (int)r->n_points;
+    stats->ssi_certified = (long)r->pairs_certified;
+    stats->ssi_within_tolerance = (long)r->pairs_within_tolerance;
+    stats->ssi_refused = (long)r->n_failed;
+    stats->ssi_regions = (long)r->n_regions;
+    stats->ssi_done = 1;
     if (!st && r->n_failed > 0) {
         const cb_ssi_failure *f = r->failed;
         st = cb_error_set(err, f->status ? f->status : CB_ERR_UNSUPPORTED,

@@ -37,6 +37,7 @@ static cb_status join(cb_ssi_curve *out, const cb_bool_cut *k, int first, int la
     out->face_a = src->face_a;
     out->face_b = src->face_b;
     out->tangential = k[first].tangential;
+    out->certified = src->certified;
     out->closed = k[first].closed ||
                   (src->closed && !memcmp(p[0].xyz, p[n - 1].xyz, sizeof p[0].xyz));
     return CB_OK;

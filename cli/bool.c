@@ -26,14 +26,18 @@ static const char BOOL_USAGE[] =
     "result, integrates its volume and area on the B-rep, tessellates it and checks the mesh\n"
     "(closed, manifold, self-intersections: CGAL), and writes OUT: a STEP B-rep (.step, .stp)\n"
     "or the mesh (.stl, .obj, .ply, .off). The intersection curves of every face pair must be\n"
-    "certified: a pair that cannot be (tangent or coincident faces the intersection does not\n"
-    "handle yet) makes the operation fail with its name, never a guessed result.\n"
+    "certified or resolved within tolerance (a region smaller than the tolerance, or surfaces\n"
+    "within it of each other; the summary says how many): a refused pair (tangent or\n"
+    "coincident faces the intersection does not handle yet) makes the operation fail with its\n"
+    "name, never a guessed result.\n"
     "\n"
     "options:\n"
     "  -o OUT            the result file (required)\n"
     "  --json REPORT     write the report as JSON: op, status, message, volume, area, solids,\n"
     "                    faces, valid, mesh {triangles, closed, manifold, self_intersections,\n"
-    "                    volume}, time_s {ssi, split, classify, total}\n"
+    "                    volume}, ssi {pairs {certified, within_tolerance, refused},\n"
+    "                    within_tolerance_regions} (null when the intersection did not run),\n"
+    "                    time_s {ssi, split, classify, total}\n"
     "  --tol T           tolerance in model units (default 1e-6 of the operands' box diagonal)\n"
     "  --threads N       threads for the intersections (default 0: all hardware threads)\n"
     "  --quiet           no progress and no text summary; errors still go to stderr\n"
@@ -67,6 +71,8 @@ typedef struct {
     char message[CB_ERROR_MSG_LEN + 32];
     cb_cli_result r;
     double t_ssi, t_split, t_build, t_total;
+    int have_ssi; /* the intersection ran: ssi counts below */
+    long ssi_certified, ssi_within_tolerance, ssi_refused, ssi_regions;
 } report;
 
 static void json_number(FILE *f, double v)
@@ -104,6 +110,13 @@ static int write_report(const char *path, const report *r)
     } else {
         fputs(", \"mesh\": null", f);
     }
+    if (r->have_ssi)
+        fprintf(f,
+                ", \"ssi\": {\"pairs\": {\"certified\": %ld, \"within_tolerance\": %ld, "
+                "\"refused\": %ld}, \"within_tolerance_regions\": %ld}",
+                r->ssi_certified, r->ssi_within_tolerance, r->ssi_refused, r->ssi_regions);
+    else
+        fputs(", \"ssi\": null", f);
     fprintf(f,
             ", \"time_s\": {\"ssi\": %.3f, \"split\": %.3f, \"classify\": %.3f, \"total\": "
             "%.3f}}\n",
@@ -284,16 +297,26 @@ int cb_cli_bool(int argc, char **argv)
     rep.t_ssi = stats.time_ssi;
     rep.t_split = stats.time_split;
     rep.t_build = stats.time_build;
+    rep.have_ssi = stats.ssi_done;
+    rep.ssi_certified = stats.ssi_certified;
+    rep.ssi_within_tolerance = stats.ssi_within_tolerance;
+    rep.ssi_refused = stats.ssi_refused;
+    rep.ssi_regions = stats.ssi_regions;
     int code;
     if (st) {
         snprintf(rep.message, sizeof rep.message, "%s", err.msg);
         fprintf(stderr, "%scolibri: %s\n", shown >= 0 ? "\n" : "", err.msg);
         code = st == CB_ERR_INVALID ? 2 : 1;
     } else {
-        if (!quiet)
+        if (!quiet) {
             printf("%s: %d intersection curves, %d cuts; pieces kept: A %d of %d, B %d of %d\n",
                    rep.op, stats.curves, stats.cuts, stats.kept[0], stats.pieces[0],
                    stats.kept[1], stats.pieces[1]);
+            printf("intersection: %ld patch pairs certified, %ld resolved within tolerance "
+                   "(%ld regions), %ld refused\n",
+                   stats.ssi_certified, stats.ssi_within_tolerance, stats.ssi_regions,
+                   stats.ssi_refused);
+        }
         code = finish(&rep, res, out, quiet, &ctx);
         rep.ok = code == 0;
     }

@@ -21,23 +21,28 @@ static const char SSI_USAGE[] =
     "\n"
     "Intersects every face of A with every face of B whose boxes overlap, with the\n"
     "topology-guaranteed surface/surface intersection, and prints the counts: curves,\n"
-    "isolated points, face pairs, patch pairs (culled by boxes, proved empty, certified, not\n"
-    "certified), the patch pairs taken by the subdivision route (B-spline pairs) and the\n"
+    "isolated points, face pairs, patch pairs (culled by boxes, proved empty, certified,\n"
+    "resolved within tolerance, refused), the patch pairs taken by the subdivision route\n"
+    "(B-spline pairs) and the\n"
     "sub-patch pairs it examined, the largest distance of an output point to each surface,\n"
     "and timings.\n"
     "Handled and tested: analytic (plane, cylinder, cone, sphere, torus) against B-spline\n"
     "faces; B-spline pairs (low degrees algebraically, the rest by certified subdivision).\n"
     "Curves and isolated points are clipped to both faces' trimming loops: a curve leaving a\n"
-    "face ends on its boundary, refined onto both surfaces. Pairs that could not be\n"
-    "certified are listed, never dropped.\n"
+    "face ends on its boundary, refined onto both surfaces. Every result is certified,\n"
+    "resolved within tolerance (its region listed) or refused (listed), never dropped.\n"
     "\n"
     "options:\n"
     "  --json OUT   write {\"tolerance\", \"time_s\", \"branches\": [{\"face_a\", \"face_b\",\n"
-    "               \"kind\": \"curve\"|\"point\", \"closed\", \"tangential\", \"xyz\", \"uv_a\",\n"
-    "               \"uv_b\"}], \"not_certified\": [{\"face_a\", \"face_b\", \"patch_a\",\n"
-    "               \"patch_b\", \"status\", \"message\"}]}; a periodic parameter lies in one\n"
-    "               period around the face's loops (a loop around a cylinder jumps by the\n"
-    "               period at the seam)\n"
+    "               \"kind\": \"curve\"|\"point\", \"closed\", \"tangential\", \"certified\",\n"
+    "               \"xyz\", \"uv_a\", \"uv_b\"}], \"pairs\": {\"certified\", \"within_tolerance\",\n"
+    "               \"refused\"}, \"coincident\": [{\"face_a\", \"face_b\", \"patch_pairs\",\n"
+    "               \"whole\", \"exact\", \"width\", \"same_face_normal\"}], \"within_tolerance\":\n"
+    "               [{\"face_a\", \"face_b\", \"patch_a\", \"patch_b\", \"kind\": \"coincidence\"|\n"
+    "               \"near_node\"|\"contact_band\", \"width\", \"box_a\", \"box_b\", \"lo\", \"hi\"}],\n"
+    "               \"not_certified\": [{\"face_a\", \"face_b\", \"patch_a\", \"patch_b\", \"status\",\n"
+    "               \"message\"}] (the refused)}; a periodic parameter lies in one period around\n"
+    "               the face's loops (a loop around a cylinder jumps by the period at the seam)\n"
     "  --svg DIR    write DIR/pair_FA_FB.svg (DIR made if missing) for every face pair with\n"
     "               a curve or point: both parameter domains with the curves, isolated\n"
     "               points, the certified topology's critical, helping and box-side points,\n"
@@ -56,10 +61,10 @@ static const char SSI_USAGE[] =
     "               the origin first (B against a moved copy of itself)\n"
     "  --translate-b X Y Z  then move B by (X, Y, Z)\n"
     "\n"
-    "Exit status: 0 every pair was certified, 1 the work failed (numerically or unsupported)\n"
-    "or some pair could not be certified, 2 bad usage or a file that cannot be used (missing,\n"
-    "unreadable, malformed: the message names file:line and the entity #id), including an\n"
-    "OUT.json or DIR that cannot be written.\n";
+    "Exit status: 0 every pair was certified or resolved within tolerance, 1 the work failed\n"
+    "(numerically or unsupported) or some pair was refused, 2 bad usage or a file that cannot\n"
+    "be used (missing, unreadable, malformed: the message names file:line and the entity #id),\n"
+    "including an OUT.json or DIR that cannot be written.\n";
 
 static double wall_s(void)
 {
@@ -84,12 +89,12 @@ static void json_points(FILE *f, const char *key, const cb_ssi_point *p, slong n
 }
 
 static void json_branch(FILE *f, int first, int fa, int fb, const char *kind, int closed,
-                        int tangential, const cb_ssi_point *p, slong n)
+                        int tangential, int certified, const cb_ssi_point *p, slong n)
 {
     fprintf(f, "%s\n  {\"face_a\": %d, \"face_b\": %d, \"kind\": \"%s\", \"closed\": %s, "
-               "\"tangential\": %s, ",
+               "\"tangential\": %s, \"certified\": %s, ",
             first ? "" : ",", fa, fb, kind, closed ? "true" : "false",
-            tangential ? "true" : "false");
+            tangential ? "true" : "false", certified ? "true" : "false");
     json_points(f, "xyz", p, n, 0);
     fprintf(f, ", ");
     json_points(f, "uv_a", p, n, 1);
@@ -110,11 +115,35 @@ static int write_json(const char *path, const cb_ssi_result_t r, double t)
     for (slong c = 0; c < r->n_curves; c++, first = 0) {
         const cb_ssi_curve *cv = r->curve + c;
         json_branch(f, first, cv->face_a, cv->face_b, "curve", cv->closed, cv->tangential,
-                    cv->pt, cv->n);
+                    cv->certified, cv->pt, cv->n);
     }
     for (slong q = 0; q < r->n_points; q++, first = 0) {
         const cb_ssi_isolated *p = r->point + q;
-        json_branch(f, first, p->face_a, p->face_b, "point", 0, p->tangential, &p->p, 1);
+        json_branch(f, first, p->face_a, p->face_b, "point", 0, p->tangential, p->certified,
+                    &p->p, 1);
+    }
+    fprintf(f, "],\n \"pairs\": {\"certified\": %ld, \"within_tolerance\": %ld, "
+               "\"refused\": %ld},\n \"coincident\": [",
+            (long)r->pairs_certified, (long)r->pairs_within_tolerance, (long)r->n_failed);
+    for (slong k = 0; k < r->n_coincident; k++) {
+        const cb_ssi_coincident *c = r->coincident + k;
+        fprintf(f, "%s\n  {\"face_a\": %d, \"face_b\": %d, \"patch_pairs\": %ld, \"whole\": %s, "
+                   "\"exact\": %s, \"width\": %.17g, \"same_face_normal\": %s}",
+                k ? "," : "", c->face_a, c->face_b, (long)c->patch_pairs,
+                c->whole ? "true" : "false", c->exact ? "true" : "false", c->width,
+                c->same_face_normal ? "true" : "false");
+    }
+    fprintf(f, "],\n \"within_tolerance\": [");
+    for (slong k = 0; k < r->n_regions; k++) {
+        const cb_ssi_region *g = r->region + k;
+        fprintf(f, "%s\n  {\"face_a\": %d, \"face_b\": %d, \"patch_a\": %d, \"patch_b\": %d, "
+                   "\"kind\": \"%s\", \"width\": %.17g, \"box_a\": [%.17g, %.17g, %.17g, %.17g], "
+                   "\"box_b\": [%.17g, %.17g, %.17g, %.17g], \"lo\": [%.17g, %.17g, %.17g], "
+                   "\"hi\": [%.17g, %.17g, %.17g]}",
+                k ? "," : "", g->face_a, g->face_b, g->patch_a, g->patch_b,
+                cb_ssi_region_kind_name(g->kind), g->width, g->box_a[0], g->box_a[1],
+                g->box_a[2], g->box_a[3], g->box_b[0], g->box_b[1], g->box_b[2], g->box_b[3],
+                g->lo[0], g->lo[1], g->lo[2], g->hi[0], g->hi[1], g->hi[2]);
     }
     fprintf(f, "],\n \"not_certified\": [");
     for (slong k = 0; k < r->n_failed; k++) {
@@ -234,9 +263,10 @@ int cb_cli_ssi(int argc, char **argv)
                "clipped to the trimmed faces\n",
                (long)untrimmed[0], (long)untrimmed[1]);
         printf("patch pairs      %ld: culled %ld, proved empty %ld, certified %ld, "
-               "not certified %ld\n",
+               "within tolerance %ld (%ld regions), refused %ld\n",
                (long)r->pairs_total, (long)r->pairs_culled, (long)r->pairs_empty,
-               (long)r->pairs_certified, (long)r->n_failed);
+               (long)r->pairs_certified, (long)r->pairs_within_tolerance,
+               (long)r->n_regions, (long)r->n_failed);
         printf("subdivision      %ld patch pairs, %ld sub-patch pairs examined\n",
                (long)r->pairs_subdivided, (long)r->subpairs);
         printf("tolerance        %.3g (max distance to A %.3g, to B %.3g)\n", r->tol,

@@ -6,15 +6,23 @@
 
 #include "ssi/inversion.h"
 #include "ssi/ssi.h"
+#include "ssi/ssi_tol.h"
 
 /* --------------------------------------------------------------- pieces -------------------- */
 
-void _cb_ssi_piece_init(_cb_ssi_piece *p) { memset(p, 0, sizeof(*p)); }
+void _cb_ssi_piece_init(_cb_ssi_piece *p)
+{
+    memset(p, 0, sizeof(*p));
+    _cb_ssi_end_init(p->end);
+    _cb_ssi_end_init(p->end + 1);
+}
 
 void _cb_ssi_piece_clear(_cb_ssi_piece *p)
 {
     free(p->pt);
     free(p->xyz);
+    _cb_ssi_end_clear(p->end);
+    _cb_ssi_end_clear(p->end + 1);
     _cb_ssi_piece_init(p);
 }
 
@@ -330,6 +338,10 @@ static double crossing(int *dir, double *val, const _cb_ssi_pair_geom *g, const 
         }
         for (int c = 0; c < nc; c++) {
             double f = (cand[c] - xa) / (xb - xa);
+            /* a at the side already, past it by round-off (a curve crossing the side at a
+             * sample): the crossing is a itself. */
+            if (f < 0 && fabs(cand[c] - xa) <= PARAM_EPS * (1 + fabs(xa)))
+                f = 0;
             if (f >= 0 && f <= 1 && (best < 0 || f < best)) {
                 best = f;
                 *dir = i;
@@ -361,7 +373,16 @@ static void split_point(_cb_ssi_pq *out, double X[3], double *gap, const _cb_ssi
     s.uv[dir] = val;
     s.fixed = 1u << dir;
     double Xs[3], gs = refine(&s, Xs, g);
-    if (gs <= g->tol) {
+    /* The refinement may slide along the curve (Q's parameters are free) to another crossing
+     * of the side, where the start between a and b was poor (b placed by another preimage of a
+     * rational P): the crossing between a and b lies within their distance of a. */
+    double Xb[3];
+    patch_eval(Xb, NULL, NULL, g->q, b->st[0], b->st[1]);
+    double dab = sqrt((Xb[0] - Xa[0]) * (Xb[0] - Xa[0]) + (Xb[1] - Xa[1]) * (Xb[1] - Xa[1]) +
+                      (Xb[2] - Xa[2]) * (Xb[2] - Xa[2]));
+    double das = sqrt((Xs[0] - Xa[0]) * (Xs[0] - Xa[0]) + (Xs[1] - Xa[1]) * (Xs[1] - Xa[1]) +
+                      (Xs[2] - Xa[2]) * (Xs[2] - Xa[2]));
+    if (gs <= g->tol && das <= dab + 10 * g->tol) {
         *out = s;
         memcpy(X, Xs, sizeof Xs);
         *gap = gs;
@@ -534,11 +555,44 @@ static cb_status take_piece(_cb_ssi_piece_set *out, _cb_ssi_piece *pc, cb_status
     return CB_OK;
 }
 
-/* Appends S[a..b], after pre and before post, as one piece when keep_piece takes it;
- * CB_ERR_NOMEM leaves out as it was. */
+/* The end e of a piece at a split point s on P's box (clipping): the side of a spline P's patch
+ * it was refined onto (u or v held: s->pq.fixed), with an enclosure of its free parameter from
+ * the refinement (ssi_tol.h CB_SSI_SPLIT_*): the crossing of that side curve C with Q lies
+ * within gap / |n_Q . C'| of it to first order. Analytic P: its range's ends are face
+ * boundaries (no neighbour), and the end is on no line. */
+static void split_end(_cb_ssi_end *e, const sample *s, const _cb_ssi_pair_geom *g)
+{
+    if (g->p_analytic || !(s->pq.fixed & 3u) || (s->pq.fixed & 3u) == 3u)
+        return;
+    int dir = (s->pq.fixed & 2u) ? 1 : 0, fr = 1 - dir;
+    double c = s->pq.uv[dir];
+    if (c != 0 && c != 1)
+        return;
+    double P[3], Pu[3], Pv[3], Q[3], Qs[3], Qt[3], n[3];
+    p_eval(P, Pu, Pv, g, s->pq.uv[0], s->pq.uv[1]);
+    patch_eval(Q, Qs, Qt, g->q, s->pq.st[0], s->pq.st[1]);
+    n[0] = Qs[1] * Qt[2] - Qs[2] * Qt[1];
+    n[1] = Qs[2] * Qt[0] - Qs[0] * Qt[2];
+    n[2] = Qs[0] * Qt[1] - Qs[1] * Qt[0];
+    double ln = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const double *Cp = fr ? Pv : Pu;
+    double rate = ln > 0 ? fabs(n[0] * Cp[0] + n[1] * Cp[1] + n[2] * Cp[2]) / ln : 0;
+    double gap = fmax(s->gap, CB_SSI_SPLIT_ROUND * g->size);
+    double b = rate > 0 ? CB_SSI_SPLIT_SAFETY * gap / rate : HUGE_VAL;
+    /* Q (nearly) tangent to P's side curve there: the first-order bound says nothing, and the
+     * end is on no line (stitching then treats it as a free end). */
+    if (!(b <= 1))
+        return;
+    double x = s->pq.uv[fr];
+    _cb_ssi_end_add_line(e, 0, dir, c == 0 ? 1 : -1, c, x - b, x + b);
+}
+
+/* Appends S[a..b], after pre and before post, as one piece when keep_piece takes it; v0, v1:
+ * the graph vertices S[a] and S[b] are (-1: none; a piece starting at a split point pre is
+ * on P's side instead). CB_ERR_NOMEM leaves out as it was. */
 static cb_status emit(_cb_ssi_piece_set *out, const sample *S, slong a, slong b,
                       const sample *pre, const sample *post, int closed, int tangential,
-                      const _cb_ssi_pair_geom *g)
+                      slong v0, slong v1, const _cb_ssi_pair_geom *g)
 {
     slong mid = (a + b) / 2;
     if (!keep_piece(g, S[mid].X))
@@ -552,6 +606,16 @@ static cb_status emit(_cb_ssi_piece_set *out, const sample *S, slong a, slong b,
         st = push_sample(&pc, S + i);
     if (st == CB_OK && post)
         st = push_sample(&pc, post);
+    if (!closed) {
+        if (pre)
+            split_end(pc.end, pre, g);
+        else
+            pc.end[0].vid = v0;
+        if (post)
+            split_end(pc.end + 1, post, g);
+        else
+            pc.end[1].vid = v1;
+    }
     return take_piece(out, &pc, st);
 }
 
@@ -619,8 +683,9 @@ static int seg_near_box(const _cb_ssi_pair_geom *g, const double ua[2], const do
 #define DENSE_STEP 0x1p-6
 
 /* The sample of the curve between a and b: the midpoint of their Q parameters refined onto
- * both surfaces (the traced chord is close to the curve, so it lands on the same branch). */
-static void mid_sample(sample *m, const sample *a, const sample *b, const _cb_ssi_pair_geom *g)
+ * both surfaces (the traced chord is close to the curve, so it lands on the same branch).
+ * Returns 1 when the refinement slid away from the chord (the sample is then not used). */
+static int mid_sample(sample *m, const sample *a, const sample *b, const _cb_ssi_pair_geom *g)
 {
     _cb_ssi_pq pq;
     for (int i = 0; i < 2; i++) {
@@ -637,6 +702,16 @@ static void mid_sample(sample *m, const sample *a, const sample *b, const _cb_ss
     m->gap = refine(&pq, m->X, g);
     m->pq = pq;
     m->in = inside_p(g, &pq, m->gap);
+    /* The refinement moves Q's parameters too and may slide along the curve, away from the
+     * chord between a and b (seen next to a rational P's seam): such a sample is not between
+     * them. */
+    int slid = 0;
+    for (int i = 0; i < 2; i++) {
+        double lo = fmin(a->pq.st[i], b->pq.st[i]), hi = fmax(a->pq.st[i], b->pq.st[i]);
+        double w = 0.5 * (hi - lo) + 1e-12;
+        slid |= !(pq.st[i] >= lo - w && pq.st[i] <= hi + w);
+    }
+    return slid;
 }
 
 /* Appends to D the samples strictly between a and b needed so that no inside piece hides
@@ -660,7 +735,8 @@ static cb_status densify(sample **D, slong *nd, slong *alloc, const sample *a, c
     if (len <= step)
         return CB_OK;
     sample m;
-    mid_sample(&m, a, b, g);
+    if (mid_sample(&m, a, b, g))
+        return CB_OK; /* no sample to be had between them: as if none were needed */
     if (densify(D, nd, alloc, a, &m, g, depth + 1) != CB_OK)
         return CB_ERR_NOMEM;
     if (*nd == *alloc) {
@@ -797,6 +873,7 @@ static cb_status clip_curve(_cb_ssi_piece_set *out, const _cb_ssi_trace_curve *t
             _cb_ssi_piece pc;
             _cb_ssi_piece_init(&pc);
             pc.isolated = pc.tangential = 1;
+            pc.end[0].vid = tc->v[0];
             st = take_piece(out, &pc, push_sample(&pc, S));
         }
         free(S);
@@ -806,7 +883,8 @@ static cb_status clip_curve(_cb_ssi_piece_set *out, const _cb_ssi_trace_curve *t
     for (slong i = 0; i < n; i++)
         all_in &= S[i].in;
     if (all_in) {
-        cb_status st = emit(out, S, 0, n - 1, NULL, NULL, tc->closed, tc->tangential, g);
+        cb_status st = emit(out, S, 0, n - 1, NULL, NULL, tc->closed, tc->tangential,
+                            tc->closed ? -1 : tc->v[0], tc->closed ? -1 : tc->v[1], g);
         free(S);
         return st;
     }
@@ -841,8 +919,12 @@ static cb_status clip_curve(_cb_ssi_piece_set *out, const _cb_ssi_trace_curve *t
         if (j + 1 < n)
             split_point(&post.pq, post.X, &post.gap, g, &S[j].pq, S[j].X, S[j].gap,
                         &S[j + 1].pq);
+        /* Ends at the traced curve's own ends are its graph vertices (a loop has none: it
+         * was rotated to start outside). */
+        slong v0 = !tc->closed && i == 0 ? tc->v[0] : -1;
+        slong v1 = !tc->closed && j == n - 1 ? tc->v[1] : -1;
         st = emit(out, S, i, j, i > 0 ? &pre : NULL, j + 1 < n ? &post : NULL, 0, tc->tangential,
-                  g);
+                  v0, v1, g);
         i = j + 1;
     }
     free(S);

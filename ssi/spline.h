@@ -222,6 +222,17 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *stats, co
                          const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o,
                          _cb_ssi_tiny_set *tiny, int job);
 
+/* A tangent region resolved within the tolerance by _cb_ssi_tiny_resolve: its 3D box and
+ * diameter, the point (of both surfaces, parameters in the domains, P's uv and Q's st) its piece
+ * ends moved onto, how many did (0: it is an isolated contact point), whether every member was
+ * proved within tol of the other surface (slab), and the pair of its first member. */
+typedef struct {
+    double lo[3], hi[3], width;
+    double X[3], uv[2], st[2];
+    int ends, slab;
+    slong job;
+} _cb_ssi_tiny_region;
+
 /* Within the tolerance (tolerance-certificates.md sections 2 and 5), for the unresolved
  * sub-pairs of all patch pairs of two surfaces (tiny[k]: those of pair k, pieces sets[k]):
  * they are clustered (3D boxes meeting within tol / 10), and a cluster that meets no sub-pair
@@ -232,10 +243,36 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *stats, co
  * pieces lying wholly in it are dropped, and with no end it gives one isolated contact point
  * (appended to the set of its first member's pair). A larger cluster is not resolved: bad[k]
  * is set for each pair k with a member in it, and unres[k] counts them. Per resolved region:
- * *regions, *nodes (of them with branch ends), *width (largest diameter). -1 when out of
+ * *regions, *nodes (of them with branch ends), *width (largest diameter), and a record in *out
+ * (*nout of them, malloc'd, the caller frees; NULL when none) whose index the moved piece ends
+ * (and the contact point) carry in _cb_ssi_end.region, so stitching joins them; within[k] is
+ * set for every pair k with a member in a resolved region or a piece end moved. -1 when out of
  * memory. */
 int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tiny_set *tiny,
                          char *bad, long *unres, double tol, long *regions, long *nodes,
-                         double *width);
+                         double *width, _cb_ssi_tiny_region **out, slong *nout, char *within);
+
+/* ---------------------------------------------------------------- coincidence ------------- */
+
+/* Pre-filter (ssi_coincide.c; never decides): every point of a CB_SSI_COINCIDENT_GRID square
+ * grid of Q within CB_SSI_COINCIDENT_FILTER tol of P's map continued over local [-1, 2]^2
+ * (projection), the centre first. */
+int _cb_ssi_coincide_filter_bez(const _cb_ssi_bez *P, const _cb_ssi_bez *Q, double tol);
+
+/* Whether the Bezier patch q lies on the continuation of the Bezier patch p (p, q: patches of
+ * cb_nurbs_surface_extract_bezier with positive weights; P, Q: the same as _cb_ssi_bez, for the
+ * projections): 1 exactly (q(s, t) = p(A(s, t)) for an axis-aligned affine A, possibly
+ * swapping the parameters; *width = 0), 2 within tol (every point q(s, t) within *width <=
+ * CB_SSI_COINCIDENT_WIDTH tol of the point p(A(s, t)) of p's map), 0 no proof. Candidates for
+ * A: the one identifying the patches' domains (the same parameterisation), and the one through
+ * p's parameters of q's corners (projection onto p continued), snapped to the 2^-30 grid and
+ * as found. Each is checked in exact rational arithmetic (FLINT fmpq, the control data taken as
+ * the dyadic rationals they are): p's homogeneous net reparameterised by A (blossoms), the
+ * difference D = p(A) w_q - q w_p(A) as a Bernstein polynomial, and max |D_ij|^2 compared with
+ * (tol min w_p(A) min w_q)^2 over the weights' Bernstein coefficients (which must be
+ * positive): |p(A) - q| = |D| / (w_p(A) w_q) <= max |D_ij| / (min w min w). */
+int _cb_ssi_coincide_reparam(double *width, const cb_nurbs_surface_struct *p,
+                             const cb_nurbs_surface_struct *q, const _cb_ssi_bez *P,
+                             const _cb_ssi_bez *Q, double tol);
 
 #endif

@@ -529,6 +529,10 @@ typedef struct {
     double x[4]; /* u, v, s, t (local) */
     double h;    /* e . X */
     int entry;
+    int which, side; /* on side `side` (0 u = lo, 1 u = hi, 2 v = lo, 3 v = hi) of the sub-box of
+                        P (which 0) or Q (1) */
+    double c;        /* that side's parameter */
+    _cb_iv w;        /* Krawczyk enclosure of the free parameter along it */
 } bpt;
 
 static void cross(double c[3], const double a[3], const double b[3])
@@ -593,6 +597,10 @@ static int boundary_points(bpt *out, const _cb_ssi_bez *P, const _cb_ssi_bez *Q,
                     return -1;
                 double cp[2] = {dir == 0 ? c : r[k].y[0], dir == 0 ? r[k].y[0] : c};
                 bpt *o = out + nb++;
+                o->which = which;
+                o->side = side;
+                o->c = c;
+                o->w = r[k].k[0];
                 double *own = which ? o->x + 2 : o->x, *oth = which ? o->x : o->x + 2;
                 own[0] = cp[0];
                 own[1] = cp[1];
@@ -772,6 +780,36 @@ static double seg_dist(const double p[3], const double a[3], const double b[3])
     return sqrt(d);
 }
 
+/* x in the Bezier patch's local [0, 1] mapped to its domain [d0, d1] (0 and 1 exactly to the
+ * ends, so neighbouring patches' shared sides compare equal), rounded down (dn) or up. */
+static double to_dom(double x, double d0, double d1, int dn)
+{
+    if (x == 0)
+        return d0;
+    if (x == 1)
+        return d1;
+    double y = d0 + x * (d1 - d0);
+    double e = (fabs(y) + fabs(d0) + fabs(d1 - d0)) * 0x1p-51;
+    return dn < 0 ? y - e : (dn > 0 ? y + e : y);
+}
+
+/* The line of boundary point b as the end e of its piece, in the patches' domains: the
+ * sub-box side it was found on and its Krawczyk enclosure along it. */
+static void end_line(_cb_ssi_end *e, const march_ctx *m, const bpt *b)
+{
+    const double *dom = b->which ? m->Q->dom : m->P->dom;
+    int dir = b->side < 2 ? 0 : 1, fr = 1 - dir;
+    double c = to_dom(b->c, dom[2 * dir], dom[2 * dir + 1], 0);
+    _cb_ssi_end_line *l = _cb_ssi_end_add_line(
+        e, b->which, dir, b->side % 2 == 0 ? 1 : -1, c,
+        to_dom(fmax(b->w.lo, 0), dom[2 * fr], dom[2 * fr + 1], -1),
+        to_dom(fmin(b->w.hi, 1), dom[2 * fr], dom[2 * fr + 1], 1));
+    if (l) {
+        l->range[0] = dom[2 * fr];
+        l->range[1] = dom[2 * fr + 1];
+    }
+}
+
 /* Marches the single branch from entry a to exit b; 1 on success (piece appended), 0 when
  * marching fails, -1 when out of memory (nothing appended either way). */
 static int march(_cb_ssi_piece_set *out, const march_ctx *m, const bpt *a, const bpt *b,
@@ -835,6 +873,8 @@ static int march(_cb_ssi_piece_set *out, const march_ctx *m, const bpt *a, const
     }
     _cb_ssi_piece *p = ok == 1 ? _cb_ssi_piece_set_add(out) : NULL;
     if (p) {
+        end_line(pc.end, m, a);
+        end_line(pc.end + 1, m, b);
         *p = pc;
         return 1;
     }
@@ -1016,9 +1056,11 @@ static int cmp_tiny(const void *x, const void *y)
 
 int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tiny_set *tiny,
                          char *bad, long *unres, double tol, long *regions, long *nodes,
-                         double *width)
+                         double *width, _cb_ssi_tiny_region **out, slong *nout, char *within)
 {
-    slong nt = 0;
+    *out = NULL;
+    *nout = 0;
+    slong nt = 0, alloc_out = 0;
     for (slong k = 0; k < nsets; k++)
         nt += tiny[k].n;
     if (nt == 0)
@@ -1104,6 +1146,30 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
         memcpy(node_pq.uv, t[best].uv, sizeof node_pq.uv);
         memcpy(node_pq.st, t[best].st, sizeof node_pq.st);
         const double *X = t[best].X;
+        /* Its record, whose index the moved ends carry (stitching joins them). */
+        if (*nout == alloc_out) {
+            slong na = alloc_out ? 2 * alloc_out : 8;
+            _cb_ssi_tiny_region *q = realloc(*out, (size_t)na * sizeof *q);
+            if (!q) {
+                st = -1;
+                break;
+            }
+            *out = q;
+            alloc_out = na;
+        }
+        slong rid = *nout;
+        _cb_ssi_tiny_region *rg = *out + (*nout)++;
+        memcpy(rg->lo, lo, sizeof rg->lo);
+        memcpy(rg->hi, hi, sizeof rg->hi);
+        rg->width = diam;
+        memcpy(rg->X, X, sizeof rg->X);
+        memcpy(rg->uv, node_pq.uv, sizeof rg->uv);
+        memcpy(rg->st, node_pq.st, sizeof rg->st);
+        rg->slab = all_slab;
+        rg->job = t[c].job;
+        for (slong i = c; i < nt; i++)
+            if (tiny_find(t, (int)i) == c)
+                within[t[i].job] = 1;
         /* Branch ends in the region (grown by the tolerance) move onto the point; a piece
          * lying wholly in it (between two of its sub-pairs) is dropped. */
         int ends = 0, touched = 0;
@@ -1134,6 +1200,10 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
                         continue;
                     pc->pt[i] = node_pq;
                     memcpy(pc->xyz + 3 * i, X, 3 * sizeof(double));
+                    /* Moved: its vertex, sides and enclosures describe another point now. */
+                    _cb_ssi_end_clear(pc->end + e);
+                    pc->end[e].region = rid;
+                    within[k] = 1;
                     ends++;
                 }
             }
@@ -1143,11 +1213,14 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
          * branch's. */
         if (ends == 0 && !touched) {
             _cb_ssi_piece *pc = _cb_ssi_piece_set_add(sets + t[c].job);
-            if (!pc || _cb_ssi_piece_push(pc, &node_pq, X) != CB_OK)
+            if (!pc || _cb_ssi_piece_push(pc, &node_pq, X) != CB_OK) {
                 st = -1;
-            else
+            } else {
                 pc->isolated = pc->tangential = 1;
+                pc->end[0].region = rid;
+            }
         }
+        rg->ends = ends;
         (*regions)++;
         *nodes += ends > 0;
         *width = fmax(*width, diam);

@@ -17,10 +17,15 @@
  *      point inverts inside (Dixon inversion for spline patches, the own parameters for
  *      analytic surfaces).
  *   6. Stitching (ssi_stitch.c): pieces of all patch pairs joined across patch boundaries into
- *      maximal curves, duplicates on shared boundaries removed, in patch-pair index order, so
- *      the output does not depend on the number of threads.
- * A patch pair the topology stage cannot certify (CB_ERR_UNSUPPORTED, CB_ERR_NUMERIC, or phi
- * of a degree above opts.max_phi_degree) is listed in the result, never dropped silently.
+ *      maximal curves by the identity of their ends (the graphs' vertices, exact boundary roots
+ *      on shared sides, enclosures), never by distance alone; duplicates on shared boundaries
+ *      removed; in patch-pair index order, so the output does not depend on the number of
+ *      threads.
+ * Every result has one of three outcomes (cb_ssi_outcome; ssi/ssi_tol.h names every rule):
+ * certified, resolved within tolerance (a region listed in r->region), or refused (listed in
+ * r->failed: a patch pair the topology stage cannot certify (CB_ERR_UNSUPPORTED,
+ * CB_ERR_NUMERIC, or phi of a degree above opts.max_phi_degree), or an ambiguous join wider
+ * than tol), never dropped silently. The result container's operations are in ssi_result.c.
  *
  * Spline/spline patch pairs whose phi would exceed opts.max_phi_degree (bicubic x bicubic: 54)
  * take the subdivision route instead (ssi/spline.h, spline_*.c; primer 7): sub-patch pairs are
@@ -49,8 +54,9 @@
  * point inversion (opts.recognise): the rounded conic weights otherwise leave nodes and
  * tangencies (the Steinmetz bicylinder, a plug in its hole) uncertified.
  *
- * Surfaces that coincide (within tol, or exactly phi = 0) give no curves but a
- * cb_ssi_coincident record with the orientation of their normals.
+ * Surfaces that coincide give no curves but a cb_ssi_coincident record with the orientation
+ * of their normals: exactly (phi = 0, or Q = P reparameterised) or, proved by a rigorous bound,
+ * within tol (ssi_coincide.c); samples only choose which pairs try a proof.
  *
  * Curves are clipped to the faces' parameter boxes; cb_bool_ssi_trim (boolean/bool.h) clips
  * them to the faces' trimming loops. Not done: surfaces of revolution and extrusion. */
@@ -64,6 +70,7 @@
 #include "brep/topo.h"
 #include "ssi/curve_topo.h"
 #include "ssi/dixon.h"
+#include "ssi/implicit.h"
 
 /* pi to double precision (C11 has no M_PI). */
 #define CB_SSI_PI 3.14159265358979323846
@@ -135,22 +142,42 @@ typedef struct {
     double uv_b[2]; /* parameters on B */
 } cb_ssi_point;
 
+/* The three outcomes of every decision the SSI makes (per patch pair, per curve, per
+ * coincidence record; ssi/ssi_tol.h lists the rules):
+ *   CB_SSI_CERTIFIED   proved: exact or interval arithmetic, or a closed form decided on the
+ *                      exact descriptions by the rule of ssi_tol.h (CB_SSI_CLOSED_FORM_*);
+ *   CB_SSI_WITHIN_TOL  not separated by the certified routes, but proved to lie within tol
+ *                      (a region of 3D size at most tol, or surfaces within tol of each other
+ *                      over a region); resolved by a stated rule and listed in r->region;
+ *   CB_SSI_REFUSED     neither: listed in r->failed with the reason (and the region when
+ *                      known). */
+typedef enum { CB_SSI_CERTIFIED = 0, CB_SSI_WITHIN_TOL = 1, CB_SSI_REFUSED = 2 } cb_ssi_outcome;
+
+/* "certified", "within_tolerance", "refused". */
+const char *cb_ssi_outcome_name(cb_ssi_outcome o);
+
 /* A maximal intersection curve: a polyline whose points all lie within tol of both surfaces.
  * closed: the last point equals the first (stored twice). Curves that meet at a node share
  * that end point exactly. tangential: the surfaces touch along the whole curve (it lies on a
- * repeated factor of phi). */
+ * repeated factor of phi). certified: 1 when every piece comes from a certified patch pair and
+ * every join of two pieces follows from the certified graphs (the same boundary root of a
+ * shared patch side, ssi_stitch.c); 0 when some join was resolved within tolerance (its region
+ * is in r->region). */
 typedef struct {
     slong n;
     cb_ssi_point *pt;
     int closed, tangential;
     int face_a, face_b; /* faces of cb_ssi_bodies; -1 for cb_ssi_surfaces */
+    int certified;
 } cb_ssi_curve;
 
-/* An isolated intersection point: always a contact of the two surfaces (tangential = 1). */
+/* An isolated intersection point: always a contact of the two surfaces (tangential = 1).
+ * certified as for curves (0: merged with another within tolerance). */
 typedef struct {
     cb_ssi_point p;
     int tangential;
     int face_a, face_b;
+    int certified;
 } cb_ssi_isolated;
 
 /* A patch pair that could not be certified: its result is missing from the output. Patch
@@ -167,15 +194,23 @@ typedef struct {
 /* Two faces (surfaces) that lie on one surface, so that they share a 2D region or could: no
  * curve is output for them (their common boundary is the trimming of one face by the other,
  * the Boolean stage's business). One record per call of cb_ssi_surfaces (per face pair in
- * cb_ssi_bodies) in which some patch pair was found to lie on one surface:
- *   analytic/analytic: the same surface within tol (same kind; planes: normals parallel within
- *     tol / size and offset within tol; cylinders, cones, tori, spheres: axis, centre or apex
- *     and radii within tol; others: a 7 x 7 grid of points of each within tol of the other);
- *   a patch pair of the algebraic route: phi = F(Q) identically zero (exact), or every point of
- *     a 5 x 5 grid of Q's patch within tol of P's surface (first-order distance |F| / |grad F|);
- *   a patch pair of the subdivision route: a 5 x 5 grid of Q's patch within tol of P's patch
- *     continued (its polynomial or rational map over local parameters [-1, 2]^2, which stays
- *     on P's algebraic surface).
+ * cb_ssi_bodies) in which some patch pair was proved to lie on one surface. Never decided by
+ * samples (samples only choose which pairs try a proof, ssi/ssi_coincide.c):
+ *   a patch pair of the algebraic route: phi = F(Q) identically zero (exact), or, within tol,
+ *     a rigorous bound: max |phi| over Q's patch from its Bernstein coefficients over the
+ *     least weight, divided by a ball-arithmetic lower bound of |grad F| over Q's hull grown
+ *     by tol, at most tol (every point of Q's patch within tol of F = 0);
+ *   a patch pair of the subdivision route: Q's patch is P's polynomial (or rational) map
+ *     continued over a box of its parameters, exactly, or within tol by the control points of
+ *     the difference (exact rational arithmetic, no rounding);
+ *   analytic/analytic (closed forms, CB_SSI_CLOSED_FORM_* of ssi_tol.h): the same surface by a
+ *     comparison of the descriptions (same kind; planes: normals parallel within tol / size and
+ *     offset within tol; cylinders, cones, tori, spheres: axis, centre or apex and radii within
+ *     tol); exact when the two exact implicit equations are proportional. Other analytic pairs
+ *     (ellipsoids) take the general route and its proofs.
+ * exact: 1 when every patch pair of the record was proved to lie exactly on one surface
+ * (outcome certified); 0 when some was proved only within tol (outcome within_tolerance, its
+ * region listed in r->region); width: the largest proved distance bound (0 when exact).
  * The records do not say whether the faces' regions overlap: two disjoint discs of one plane
  * are listed too. Orientation: same_normal = 1 when the surface normals S_u x S_v of A and B
  * point the same way at xyz (a point of both), 0 when they are opposite; same_face_normal is
@@ -189,7 +224,36 @@ typedef struct {
                              0: some did not, and their curves are output as usual */
     int same_normal, same_face_normal;
     double xyz[3];
+    int exact;            /* 1: proved exactly (certified); 0: within tol (within_tolerance) */
+    double width;         /* largest proved distance of Q's patch from P's surface; 0 exact */
 } cb_ssi_coincident;
+
+/* A region resolved within tolerance (outcome CB_SSI_WITHIN_TOL):
+ *   COINCIDENCE  a patch pair proved to lie within width (<= tol) of one surface, not exactly;
+ *   NEAR_NODE    curve ends that the certified graphs could not tell apart or join (several
+ *                candidates within their bounds on a patch side, or ends on no side) whose 3D
+ *                box has diameter width <= tol: joined at one node (the first end's point);
+ *   CONTACT_BAND surfaces within width of each other along a band (not produced yet: the hook
+ *                for the subdivision route's distance certificates).
+ * Parameter boxes {u0, u1, v0, v1} in A's and B's parameters (patch indices -1 for an analytic
+ * side or when several patches are involved); lo, hi the 3D box. */
+typedef enum {
+    CB_SSI_REGION_COINCIDENCE = 0,
+    CB_SSI_REGION_NEAR_NODE = 1,
+    CB_SSI_REGION_CONTACT_BAND = 2
+} cb_ssi_region_kind;
+
+/* "coincidence", "near_node", "contact_band". */
+const char *cb_ssi_region_kind_name(cb_ssi_region_kind k);
+
+typedef struct {
+    cb_ssi_region_kind kind;
+    int face_a, face_b;
+    int patch_a, patch_b;
+    double box_a[4], box_b[4];
+    double lo[3], hi[3];
+    double width;
+} cb_ssi_region;
 
 /* A vertex of the certified topology graph of one patch pair of the algebraic route (see
  * cb_ctopo_vertex_struct), kept with opts.keep_marks to show what the topology stage decided:
@@ -220,19 +284,27 @@ typedef struct {
     cb_ssi_coincident *coincident;
     slong n_marks, alloc_marks; /* only with opts.keep_marks; in patch-pair order */
     cb_ssi_mark *mark;
+    slong n_regions, alloc_regions; /* regions resolved within tolerance, in pair order */
+    cb_ssi_region *region;
 
-    cb_status status;       /* CB_OK when every patch pair was certified, else the status of
-                               the first failure (in pair order), or CB_ERR_NOMEM when that
-                               failure could not be listed in failed */
+    cb_status status;       /* CB_OK when nothing was refused (every patch pair certified or
+                               resolved within tolerance), else the status of the first
+                               failure (in pair order), or CB_ERR_NOMEM when that failure
+                               could not be listed in failed */
+    /* Outcomes: every patch pair that is not culled is counted in exactly one of
+     * pairs_certified and pairs_within_tolerance, or has a record in failed (refused; failed
+     * also lists ambiguous joins between pairs and face pairs the driver does not take). */
     slong pairs_total;      /* patch pairs considered */
     slong pairs_culled;     /* separated oriented boxes (section 4.1) */
     slong pairs_empty;      /* phi proved sign-definite by its Bernstein coefficients */
-    slong pairs_certified;  /* topology computed (includes pairs_empty) */
+    slong pairs_certified;  /* topology computed, or exact coincidence (includes pairs_empty) */
+    slong pairs_within_tolerance; /* resolved within tolerance: coincident within tol, or a
+                                     join of its curves' ends decided so (r->region) */
     slong pairs_subdivided; /* patch pairs taken by the subdivision route (a subset of
                                pairs_total; certified ones are counted in pairs_certified) */
     slong subpairs;         /* sub-patch pairs the subdivision route examined */
     slong pairs_coincident; /* patch (or analytic surface) pairs found on one surface; counted
-                               in pairs_certified too */
+                               in pairs_certified (exact) or pairs_within_tolerance */
     slong pairs_closed_form; /* analytic/analytic pairs decided by a closed form (counted in
                                 pairs_certified; the others took the general route) */
     slong regions_within_tol; /* tangent regions the subdivision route resolved within the
@@ -290,6 +362,43 @@ typedef struct {
     unsigned fixed;
 } _cb_ssi_pq;
 
+/* A boundary root known exactly: the end's free coordinate along a Q patch side (local, in
+ * [0, 1]) is the only root of p in [lo, hi] (lo == hi: exactly lo, whatever p). p is the
+ * primitive part of the certified graph's squarefree h restricted to that side, so two ends on
+ * one side of Q's patches (or on the shared side of two neighbours, whose boundary curves are
+ * bitwise the same) are the same point iff gcd of their p has a root in both intervals
+ * (ssi_stitch.c). NULL p: only exact points (lo == hi) compare. */
+typedef struct {
+    fmpz_poly_struct *p;
+    fmpq_t lo, hi;
+} _cb_ssi_side_root;
+
+/* A patch-boundary line through a piece's end: parameter dir of surface sigma (0 P, 1 Q) fixed
+ * to c, the piece on the side half (+1: parameters >= c, -1: <= c) of it, and an enclosure
+ * [lo, hi] of the end's free parameter along the line: certified (the graph's vertex interval,
+ * the subdivision route's Krawczyk enclosure) or derived from the refinement (CB_SSI_SPLIT_*
+ * of ssi_tol.h, where the clipping split the curve on P's side). c, lo, hi are local until
+ * mapped to the surfaces' domains with the piece's points; range is the free parameter's range
+ * of the patch (domain), under which local coordinates of two ends compare. root: exact data
+ * (Q sides of the algebraic route) or NULL. */
+typedef struct {
+    int sigma, dir, half;
+    double c, lo, hi;
+    double range[2];
+    _cb_ssi_side_root *root;
+} _cb_ssi_end_line;
+
+/* How a piece ends: vid >= 0 is a vertex of its pair's certified topology graph (ends with the
+ * same vid in one pair are one point, with different vids different points); nl lines it lies
+ * on (a corner of a patch box: two); region (below). */
+typedef struct {
+    slong vid;
+    int nl;
+    _cb_ssi_end_line ln[2];
+    slong region; /* >= 0: moved onto the point of that tangent region resolved within the
+                     tolerance (_cb_ssi_tiny_resolve); ends with one region are one node */
+} _cb_ssi_end;
+
 /* A polyline found in one patch pair, before stitching; points in P/Q parameters. */
 typedef struct {
     slong n, alloc;
@@ -297,7 +406,16 @@ typedef struct {
     double *xyz;   /* 3 n: midpoints of P(uv) and Q(st) */
     double gap;    /* largest |P(uv) - Q(st)| over the points */
     int closed, tangential, isolated;
+    _cb_ssi_end end[2]; /* first and last point (an isolated point: end[0]) */
 } _cb_ssi_piece;
+
+/* An end that is on no line and no vertex. */
+void _cb_ssi_end_init(_cb_ssi_end *e);
+/* Frees the exact roots of e's lines. */
+void _cb_ssi_end_clear(_cb_ssi_end *e);
+/* Adds a line to e (at most two; a third is ignored); the line's root is NULL. */
+_cb_ssi_end_line *_cb_ssi_end_add_line(_cb_ssi_end *e, int sigma, int dir, int half, double c,
+                                       double lo, double hi);
 
 void _cb_ssi_piece_init(_cb_ssi_piece *p);
 void _cb_ssi_piece_clear(_cb_ssi_piece *p);
@@ -315,12 +433,14 @@ void _cb_ssi_piece_set_clear(_cb_ssi_piece_set *ps);
 _cb_ssi_piece *_cb_ssi_piece_set_add(_cb_ssi_piece_set *ps);
 
 /* A curve in Q's local patch box [0,1]^2 from the tracer: sigma, tau per point, and the
- * Q-side fixed bits of each point (bit 2 s, bit 3 t) for points on the box sides. */
+ * Q-side fixed bits of each point (bit 2 s, bit 3 t) for points on the box sides. v: the graph
+ * vertices it starts and ends at (-1 for a closed curve; an isolated point: both its vertex). */
 typedef struct {
     slong n, alloc;
     double *st;
     unsigned *fixed;
     int closed, tangential, isolated;
+    slong v[2];
 } _cb_ssi_trace_curve;
 
 /* The traced curves of one patch pair. */
@@ -389,6 +509,7 @@ typedef struct {
                          control points */
     cb_aabb p_net;
     double tol, chord, max_seg;
+    double size; /* the model size (diagonal of both surfaces' boxes) */
 } _cb_ssi_pair_geom;
 
 /* Parameters of a point X on the analytic surface a, by the closed forms of its
@@ -409,29 +530,106 @@ void _cb_ssi_lift(double X[3], const void *geom, double sigma, double tau);
 cb_status _cb_ssi_clip(_cb_ssi_piece_set *out, const _cb_ssi_trace_set *ts,
                        const _cb_ssi_pair_geom *g);
 
-/* Joins the pieces of all patch pairs (sets, in pair order; parameters already in the
- * surfaces' domains) into maximal curves appended to r: end points closer than merge_tol form
- * one node and get the coordinates of the first of them; chains pass nodes of degree 2; a
- * piece whose ends match an earlier piece's and whose middle is within chord + merge_tol of it (a curve on a patch boundary shared by
- * two pairs) is dropped, as is an isolated point at a node or at an earlier isolated point.
- * swapped: P is B (so uv goes to uv_b). Curves start at their lowest piece, so the output
- * depends only on the order of sets. CB_ERR_NOMEM may leave part of the curves in r. */
-cb_status _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong nsets,
-                         int swapped, int face_a, int face_b, double merge_tol, double chord);
+/* The exact side roots of the ends of pieces ps->p[first..] that are vertices of T on the
+ * box sides (T, the graph of phi = 0 in Q's local [0,1]^2, phi in the variables (s, t) of ctx
+ * as the topology took it; swap: T's s is Q's second parameter): a line per side with the
+ * vertex's certified interval and phi restricted to the side (the squarefree h where the side
+ * is a vertical line of phi). CB_ERR_NOMEM. */
+cb_status _cb_ssi_ends_from_graph(_cb_ssi_piece_set *ps, slong first, const cb_ctopo_t T,
+                                  const fmpz_mpoly_t phi, const fmpz_mpoly_ctx_t ctx, int swap);
 
-/* Appends a coincidence record (patch_pairs 1, whole 1, same_face_normal = same_normal); NULL
- * when out of memory (r is left as it was). */
+/* The pieces of one patch pair for stitching: patch indices (A's, B's; -1 analytic) for the
+ * records of joins involving them, the patches' boxes (for curves along their sides), and, on
+ * return, the outcome of the joins of their ends
+ * (CB_SSI_CERTIFIED, or CB_SSI_WITHIN_TOL / CB_SSI_REFUSED when a join touching them was
+ * resolved within tolerance / refused). */
+typedef struct {
+    const _cb_ssi_piece_set *ps;
+    int patch_a, patch_b;
+    double pdom[4], qdom[4]; /* P's and Q's patch boxes in the domains (NAN: analytic P) */
+    cb_ssi_outcome outcome;
+} _cb_ssi_stitch_set;
+
+typedef struct {
+    int swapped;          /* P is B (uv goes to uv_b) */
+    int face_a, face_b;
+    double tol, chord;
+    int closed_form;      /* pieces of the closed forms: joined by CB_SSI_CLOSED_FORM_JOIN */
+    /* seam[sigma][dir] = {lo, hi}: the sides lo and hi of P's (0) or Q's (1) domain in
+     * direction dir are one curve (a closed B-spline whose first and last control rows are
+     * equal up to one power-of-two factor: exactly the same points), so ends on them are on
+     * one line; NAN where not. */
+    double seam[2][2][2];
+} _cb_ssi_stitch_opts;
+
+/* seam[dir] = {lo, hi} of the B-spline s's domain when its first and last control rows in
+ * direction dir are the same homogeneous points up to one power-of-two factor, else NAN. */
+void _cb_ssi_seams(double seam[2][2], const cb_nurbs_surface_struct *s);
+
+/* Joins the pieces of all patch pairs (sets, in pair order; parameters already in the
+ * surfaces' domains) into maximal curves appended to r. Nodes, never by distance alone
+ * (ssi/ssi_tol.h names each rule and its outcome):
+ *   1. ends with the same graph vertex of one pair are one node;
+ *   2. ends on one patch-boundary line (P's or Q's, in the domains; the two end sides of an
+ *      exactly closed B-spline are one line) whose enclosures overlap form a candidate group;
+ *      in it, ends are the same point when certified so (the same vertex; exact side roots
+ *      with a common root of their polynomials in both intervals; equal exact points) and
+ *      different points when certified so (different vertices of one pair; no common root);
+ *      what is left undecided is joined when it is one class on each side of the line (the
+ *      bound-match), and otherwise the group is ambiguous: joined at one node within
+ *      tolerance when its 3D box is at most CB_SSI_NEAR_NODE tol across (a NEAR_NODE region),
+ *      refused (a failure record with the boxes) when larger;
+ *   3. ends still alone and undecided (on no line, or with no candidate on it) joined with the
+ *      ends of other pairs within CB_SSI_FREE_JOIN tol, as an ambiguous group;
+ *   4. a piece whose points stay within CB_SSI_DEGENERATE_PIECE tol of its first is dropped and
+ *      its ends made one node within tolerance, unless it has no extent at all and one end is
+ *      a graph vertex already joined to another pair (dropped, nothing merged).
+ * A node takes the coordinates of its first end. Chains pass nodes of degree 2. A piece
+ * joining the same two nodes as an earlier one while both lie along one patch side (Q: the
+ * side parameter held; P: within CB_SSI_ON_SIDE_EPS) is the same curve found by both
+ * neighbours and dropped; an isolated point joined to a node or an earlier point too. Curves
+ * through a node joined within tolerance have certified = 0; sets[k].outcome says whether a
+ * join touching set k was made within tolerance or refused.
+ * With o->closed_form: ends within CB_SSI_CLOSED_FORM_JOIN tol are one node, a piece that never
+ * leaves its node is dropped, and a piece with the same nodes as an earlier one whose middle is
+ * within chord + that of it is dropped (the closed forms' rule, certified as such). Curves
+ * start at their lowest piece, so the output depends only on the order of sets. CB_ERR_NOMEM
+ * may leave part of the curves in r. */
+cb_status _cb_ssi_stitch(cb_ssi_result_t r, _cb_ssi_stitch_set *sets, slong nsets,
+                         const _cb_ssi_stitch_opts *o);
+
+/* ------------------------------------------- the result container (ssi_result.c) ----------- */
+
+/* Appends a coincidence record (patch_pairs 1, whole 1, same_face_normal = same_normal, exact,
+ * width); NULL when out of memory (r is left as it was). */
 cb_ssi_coincident *_cb_ssi_add_coincident(cb_ssi_result_t r, int fa, int fb, int pa, int pb,
-                                          int same_normal, const double xyz[3]);
+                                          int same_normal, const double xyz[3], int exact,
+                                          double width);
+
+/* Appends a region; NULL when out of memory (r is left as it was). */
+cb_ssi_region *_cb_ssi_add_region(cb_ssi_result_t r, cb_ssi_region_kind kind, int fa, int fb,
+                                  int pa, int pb, double width);
+
+/* Appends a new empty curve (face_a, face_b set, certified 1); NULL when out of memory. */
+cb_ssi_curve *_cb_ssi_add_curve(cb_ssi_result_t r, int fa, int fb);
+
+/* Appends a new isolated point (tangential 1, certified 1, face_a, face_b set); NULL when out
+ * of memory. */
+cb_ssi_isolated *_cb_ssi_add_point(cb_ssi_result_t r, int fa, int fb);
 
 /* Appends n marks to r; CB_ERR_NOMEM leaves r as it was. */
 cb_status _cb_ssi_add_marks(cb_ssi_result_t r, const cb_ssi_mark *m, slong n);
 
-/* Appends everything s holds to r (curves, points, failures, coincidence records, marks;
- * counters added, distances maxed) and leaves s without them. CB_ERR_NOMEM may have moved
- * part of s (a curve is then in r or in s, never both, so clearing both frees everything
- * once). */
+/* Appends everything s holds to r (curves, points, failures, coincidence records, regions,
+ * marks; counters added, distances maxed) and leaves s without them. CB_ERR_NOMEM may have
+ * moved part of s (a curve is then in r or in s, never both, so clearing both frees
+ * everything once). */
 cb_status _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s);
+
+/* Distances of an output point to both surfaces at its own parameters (an upper bound on its
+ * distance to each), recorded in r->max_dist_a, max_dist_b. */
+void _cb_ssi_result_measure(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_ssi_surface *B,
+                            const cb_ssi_point *p);
 
 /* B-spline surfaces that lie on analytic ones (ssi_recog.c).
  * _cb_ssi_recognise: 1 when s is proved to lie within delta of a plane, cylinder, sphere or cone
@@ -469,11 +667,29 @@ cb_status _cb_ssi_analytic_pair_img(cb_ssi_result_t r, const cb_ssi_surface *A,
                                     int face_a, int face_b, const cb_ssi_opts *opts,
                                     cb_error *err);
 
-/* Appends a failure record to r and sets r->status to st if it was CB_OK. CB_ERR_NOMEM when
- * the record cannot be stored: r->status is then set to CB_ERR_NOMEM if it was CB_OK, so r never
- * reads as certified, and the caller must fail with CB_ERR_NOMEM, since a failure missing
- * from r->failed would otherwise go unseen by readers that count n_failed. */
+/* Appends a failure record to r (ssi_result.c) and sets r->status to st if it was CB_OK.
+ * CB_ERR_NOMEM when the record cannot be stored: r->status is then set to CB_ERR_NOMEM if it
+ * was CB_OK, so r never reads as certified, and the caller must fail with CB_ERR_NOMEM, since a
+ * failure missing from r->failed would otherwise go unseen by readers that count n_failed. */
 cb_status _cb_ssi_add_failure(cb_ssi_result_t r, int fa, int fb, int pa, int pb, cb_status st,
                               const char *msg);
+
+/* ------------------------------------------- coincidence proofs (ssi_coincide.c) ----------- */
+
+/* q = the double x, exactly (a double is a dyadic rational). */
+void _cb_fmpq_set_d(fmpq_t q, double x);
+
+/* Whether Q's Bezier patch lies within tol of the surface F = 0, proved: 1 with *width the
+ * proved bound (<= tol), 0 when no proof was found (the pair then takes the normal routes).
+ * phi = F(Q) as cb_phi_compute gives it (not identically zero: that is the exact case, the
+ * caller's); q: Q's patch (weights positive). Method: |F(X)| <= max |Bernstein coefficient of
+ * phi| / (min weight)^N over the patch (phi = d^N F(X) for Q = (a, b, c, d) scaled), and
+ * |grad F| >= g > 0 over Q's control box grown by tol in ball arithmetic (Taylor shift of F to
+ * the box centre, remainder bounded by the shifted coefficients); then every point of Q is
+ * within max |F| / g of F = 0 (the gradient flow from it reaches F = 0 within that length,
+ * inside the grown box). Rounding: every quantity is an Arb ball, upper or lower bound taken. */
+int _cb_ssi_coincide_implicit(double *width, const cb_implicit_struct *F, const cb_phi_struct *phi,
+                              const cb_dixon_patch_struct *qd, const cb_nurbs_surface_struct *q,
+                              double tol);
 
 #endif

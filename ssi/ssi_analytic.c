@@ -14,8 +14,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <flint/fmpz_vec.h>
+
 #include "brep/bbox.h"
 #include "ssi/ssi.h"
+#include "ssi/ssi_tol.h"
 
 #define PI CB_SSI_PI
 
@@ -309,7 +312,7 @@ typedef struct {
 /* Clipping slack relative to the size: a curve lying on a range's end (an edge line of both
  * faces) computes to within round-off of it and must be kept; a slack of tol would instead
  * turn a curve that only grazes a range's end into a piece of length ~ sqrt(tol r). */
-#define SLACK 1e-12
+#define SLACK CB_SSI_CLOSED_FORM_SLACK
 
 static double margin(const actx *g, const prim *c, double t)
 {
@@ -421,21 +424,21 @@ static void piece_fix_degenerate(_cb_ssi_piece *pc, const actx *g)
 
 /* The curve over [ta, tb] as a piece, chords within chord and max_seg (curved primitives
  * start from chords of at most pi/8 of their parameter, so no chord test is fooled). A piece
- * shorter than 10 tol (where a curve touches a range's end) is dropped, as the algebraic route
- * drops pieces that do not leave their start node. CB_ERR_NOMEM may leave the piece part
+ * shorter than CB_SSI_CLOSED_FORM_SHORT tol (where a curve touches a range's end) is dropped
+ * (ssi_tol.h). CB_ERR_NOMEM may leave the piece part
  * built. */
 static cb_status emit_piece(_cb_ssi_piece_set *out, const actx *g, const prim *c, double ta,
                             double tb, int closed)
 {
     double len = 0, Y0[3], Y1[3];
     prim_eval(Y0, c, ta);
-    for (int i = 1; i <= 16 && len <= 10 * g->tol; i++) {
+    for (int i = 1; i <= 16 && len <= CB_SSI_CLOSED_FORM_SHORT * g->tol; i++) {
         prim_eval(Y1, c, ta + (tb - ta) * i / 16);
         len += sqrt((Y1[0] - Y0[0]) * (Y1[0] - Y0[0]) + (Y1[1] - Y0[1]) * (Y1[1] - Y0[1]) +
                     (Y1[2] - Y0[2]) * (Y1[2] - Y0[2]));
         memcpy(Y0, Y1, sizeof Y0);
     }
-    if (len <= 10 * g->tol)
+    if (len <= CB_SSI_CLOSED_FORM_SHORT * g->tol)
         return CB_OK;
     _cb_ssi_piece *pc = _cb_ssi_piece_set_add(out);
     if (!pc)
@@ -465,7 +468,7 @@ static cb_status emit_piece(_cb_ssi_piece_set *out, const actx *g, const prim *c
  * through zero between the samples, so short excursions are not stepped over. CB_ERR_NOMEM. */
 static cb_status clip_prim(_cb_ssi_piece_set *out, const actx *g, const prim *c)
 {
-    enum { NS = 256 };
+    enum { NS = CB_SSI_CLOSED_FORM_SAMPLES };
     int per = prim_periodic(c);
     double t0 = per ? 0 : c->t0, t1 = per ? 2 * PI : c->t1;
     if (!(t1 > t0))
@@ -1048,29 +1051,22 @@ static void pp_coaxial(plan *P, const actx *g, const cb_analytic_surface *A,
         }
 }
 
-/* ---------------------------------------------------------------- coincidence by samples --- */
+/* ---------------------------------------------------------------- coincidence -------------- */
 
-/* Every point of a 7 x 7 grid of s within tol of t's surface (first-order distance
- * |F| / |grad F| of t's equation about the grid's centre). */
-static int on_surface(const asurf *s, const asurf *t, double tol)
+/* 1 when the exact implicit equations of a and b (cb_implicit_from_analytic: primitive, sign
+ * normalised) are equal, i.e. proportional: the same algebraic surface exactly. */
+static int same_equation(const cb_analytic_surface *a, const cb_analytic_surface *b)
 {
-    double c[3], X[3];
-    cb_analytic_eval(c, s->a, 0.5 * (s->range[0] + s->range[1]),
-                     0.5 * (s->range[2] + s->range[3]));
-    cb_poly3_t F;
-    cb_poly3_init(F);
-    int ok = cb_analytic_implicit_about(F, t->a, c, NULL) == CB_OK;
-    for (int i = 0; i <= 6 && ok; i++)
-        for (int j = 0; j <= 6 && ok; j++) {
-            double u = s->range[0] + (s->range[1] - s->range[0]) * (i + 0.5) / 7;
-            double v = s->range[2] + (s->range[3] - s->range[2]) * (j + 0.5) / 7, q[3], gr[3];
-            cb_analytic_eval(X, s->a, u, v);
-            sub(q, X, c);
-            double f = cb_poly3_eval_grad(gr, F, q), gn = norm(gr);
-            ok = f == 0 || (gn > 0 && fabs(f) / gn <= tol);
-        }
-    cb_poly3_clear(F);
-    return ok;
+    cb_implicit_t F, G;
+    cb_implicit_init(F);
+    cb_implicit_init(G);
+    cb_error err;
+    int same = cb_implicit_from_analytic(F, a, &err) == CB_OK &&
+               cb_implicit_from_analytic(G, b, &err) == CB_OK && F->deg == G->deg &&
+               _fmpz_vec_equal(F->c, G->c, cb_poly3_len((int)F->deg));
+    cb_implicit_clear(F);
+    cb_implicit_clear(G);
+    return same;
 }
 
 /* ---------------------------------------------------------------- general route ------------ */
@@ -1270,10 +1266,9 @@ cb_status _cb_ssi_analytic_pair_img(cb_ssi_result_t r, const cb_ssi_surface *A,
     double ta = g.tol / size;
     r->tol = g.tol;
     if (!cb_aabb_overlap(&g.s[0].box, &g.s[1].box, g.tol)) {
+        /* Culled, as the patch routes count separated boxes (not certified nor empty). */
         r->pairs_total++;
         r->pairs_culled++;
-        r->pairs_certified++;
-        r->pairs_empty++;
         return CB_OK;
     }
 
@@ -1303,21 +1298,18 @@ cb_status _cb_ssi_analytic_pair_img(cb_ssi_result_t r, const cb_ssi_surface *A,
         pp_cyl_sphere(&P, &g, a, b);
     else
         P.general = 1;
-    if (P.general && a->kind == b->kind && on_surface(g.s, g.s + 1, g.tol) &&
-        on_surface(g.s + 1, g.s, g.tol)) {
-        P.general = 0;
-        P.coincident = 1;
-    }
+    /* Surfaces of the general route that coincide (ellipsoids) are found there by proof: phi
+     * identically zero, or bounded within tol (ssi_coincide.c). */
     if (P.general && (img[0] || img[1]))
         return CB_OK;
     if (P.general)
         return general_route(r, &g, face_a, face_b, opts, err);
 
     r->pairs_total++;
-    r->pairs_certified++;
     r->pairs_closed_form++;
     if (P.coincident) {
-        /* A point of A (the middle of its range) and the normals of both there. */
+        /* A point of A (the middle of its range) and the normals of both there. Exact when
+         * the exact equations agree; otherwise the closed form's comparison within tol. */
         double X[3], na[3], nb[3];
         if (img[0]) /* a point of the B-spline A stands for */
             cb_topo_inverter_eval(X, img[0]->inv, 0.5 * (img[0]->inv->box[0] + img[0]->inv->box[1]),
@@ -1328,11 +1320,30 @@ cb_status _cb_ssi_analytic_pair_img(cb_ssi_result_t r, const cb_ssi_surface *A,
         anormal(na, g.s, X);
         anormal(nb, g.s + 1, X);
         r->pairs_coincident++;
-        if (!_cb_ssi_add_coincident(r, face_a, face_b, -1, -1, dot(na, nb) > 0, X))
+        int exact = same_equation(g.s[0].a, g.s[1].a);
+        if (!_cb_ssi_add_coincident(r, face_a, face_b, -1, -1, dot(na, nb) > 0, X, exact,
+                                    g.tol))
             return cb_error_set(err, CB_ERR_NOMEM,
                                 "ssi: out of memory recording coincident surfaces");
+        if (exact) {
+            r->pairs_certified++;
+            return CB_OK;
+        }
+        r->pairs_within_tolerance++;
+        cb_ssi_region *rg =
+            _cb_ssi_add_region(r, CB_SSI_REGION_COINCIDENCE, face_a, face_b, -1, -1, g.tol);
+        if (!rg)
+            return cb_error_set(err, CB_ERR_NOMEM,
+                                "ssi: out of memory recording coincident surfaces");
+        memcpy(rg->box_a, g.s[0].range, sizeof rg->box_a);
+        memcpy(rg->box_b, g.s[1].range, sizeof rg->box_b);
+        for (int k = 0; k < 3; k++) {
+            rg->lo[k] = fmax(g.s[0].box.lo[k], g.s[1].box.lo[k]);
+            rg->hi[k] = fmin(g.s[0].box.hi[k], g.s[1].box.hi[k]);
+        }
         return CB_OK;
     }
+    r->pairs_certified++;
     _cb_ssi_piece_set set;
     _cb_ssi_piece_set_init(&set);
     cb_status st = CB_OK;
@@ -1343,8 +1354,12 @@ cb_status _cb_ssi_analytic_pair_img(cb_ssi_result_t r, const cb_ssi_surface *A,
     if (set.n == 0)
         r->pairs_empty++;
     slong c0 = r->n_curves, p0 = r->n_points;
+    _cb_ssi_stitch_set ss = {&set, -1, -1, {NAN, NAN, NAN, NAN}, {NAN, NAN, NAN, NAN},
+                             CB_SSI_CERTIFIED};
+    _cb_ssi_stitch_opts so = {0, face_a, face_b, g.tol, g.chord, 1, {{{NAN, NAN}, {NAN, NAN}},
+                                                                      {{NAN, NAN}, {NAN, NAN}}}};
     if (st == CB_OK)
-        st = _cb_ssi_stitch(r, &set, 1, 0, face_a, face_b, g.tol, g.chord);
+        st = _cb_ssi_stitch(r, &ss, 1, &so);
     _cb_ssi_piece_set_clear(&set);
     if (st != CB_OK)
         return cb_error_set(err, st, "ssi: out of memory building the closed-form curves");

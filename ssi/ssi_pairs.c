@@ -11,6 +11,7 @@
 #include "ssi/implicit.h"
 #include "ssi/spline.h"
 #include "ssi/ssi.h"
+#include "ssi/ssi_tol.h"
 
 void cb_ssi_surface_set_analytic(cb_ssi_surface *S, const cb_analytic_surface *a,
                                  const double range[4])
@@ -265,8 +266,12 @@ typedef struct {
     int probe;  /* rational P patch over the degree bound: implicitise first, then choose */
     int coincident, same_normal; /* the patches lie on one surface; normals agree at cxyz */
     double cxyz[3], cdist;       /* cdist: distance of cxyz from P's patch */
+    int c_exact;                 /* coincident exactly (else within c_width <= tol) */
+    double c_width;
     _cb_ssi_spline_stats sst;
     _cb_ssi_tiny_set tiny; /* subdivision route: sub-pairs left for _cb_ssi_tiny_resolve */
+    int tiny_within;       /* a tangent region resolved within tol touched the pair */
+    int within;            /* counted in pairs_within_tolerance (else certified) */
     _cb_ssi_piece_set pieces;
     slong n_marks;
     cb_ssi_mark *marks; /* opts.keep_marks: the graph's vertices; faces and side set later */
@@ -281,7 +286,7 @@ typedef struct {
     cb_dixon_patch_struct *Q;
     const cb_nurbs_surface_struct *ppat, *qpat; /* Bezier patches (ppat NULL: analytic P) */
     const cb_ssi_opts *opts;
-    double tol, chord, max_seg;
+    double tol, chord, max_seg, size;
 } pair_ctx;
 
 /* ---------------------------------------------------------------- coincident patches ------ */
@@ -363,88 +368,21 @@ static double patch_project(double uv[2], const cb_nurbs_surface_struct *pat, co
     return sqrt(best);
 }
 
-/* The Q patch lies on P's surface within tol: all 25 grid points within tol of F = 0 (the
- * algebraic route). The centre is tried first, so a pair that is not coincident costs one
- * point. */
+/* Pre-filter of the algebraic route's coincidence proof (never decides): every point of a
+ * CB_SSI_COINCIDENT_GRID square grid of Q within CB_SSI_COINCIDENT_FILTER tol of F = 0 (first
+ * order). The centre is tried first, so a pair that is not coincident costs one point. */
 static int job_near_coincident(const pair_ctx *c, const pair_job *J, const cb_implicit_struct *F)
 {
     const cb_nurbs_surface_struct *q = c->qpat + J->iq;
-    for (int k = 0; k < 25; k++) {
-        double uv[2], X[3];
-        grid_param(uv, q, k);
-        cb_nurbs_surface_eval(X, q, uv[0], uv[1]);
-        if (!(implicit_dist(F, X) <= c->tol))
-            return 0;
-    }
-    return 1;
-}
-
-/* Distance from X to the algebraic continuation of the Bezier patch P (de Casteljau is valid
- * outside [0,1]^2: the patch's polynomial or rational map continued, which stays on the same
- * algebraic surface), over local parameters in [-1, 2]^2: the nearest of a 13 x 13 grid, or
- * uv when warm, then Gauss-Newton (at most 30 steps, each kept only when it gets closer). */
-static double bez_project(double uv[2], const _cb_ssi_bez *P, const double X[3], int warm)
-{
-    double A[3], Au[3], Av[3], best = HUGE_VAL;
-    if (!warm)
-        for (int i = 0; i <= 12; i++)
-            for (int j = 0; j <= 12; j++) {
-                double u = -1 + i / 4.0, v = -1 + j / 4.0;
-                _cb_ssi_bez_eval(A, Au, Av, P, u, v);
-                double e = (A[0] - X[0]) * (A[0] - X[0]) + (A[1] - X[1]) * (A[1] - X[1]) +
-                           (A[2] - X[2]) * (A[2] - X[2]);
-                if (e < best) {
-                    best = e;
-                    uv[0] = u;
-                    uv[1] = v;
-                }
-            }
-    _cb_ssi_bez_eval(A, Au, Av, P, uv[0], uv[1]);
-    best = (A[0] - X[0]) * (A[0] - X[0]) + (A[1] - X[1]) * (A[1] - X[1]) +
-           (A[2] - X[2]) * (A[2] - X[2]);
-    for (int it = 0; it < 30 && best > 0; it++) {
-        double a = 0, b = 0, cc = 0, ru = 0, rv = 0;
-        for (int k = 0; k < 3; k++) {
-            double r = X[k] - A[k];
-            a += Au[k] * Au[k];
-            b += Au[k] * Av[k];
-            cc += Av[k] * Av[k];
-            ru += Au[k] * r;
-            rv += Av[k] * r;
-        }
-        double det = a * cc - b * b;
-        if (!(fabs(det) > 0) || !isfinite(det))
-            break;
-        double nu = fmin(2, fmax(-1, uv[0] + (cc * ru - b * rv) / det));
-        double nv = fmin(2, fmax(-1, uv[1] + (a * rv - b * ru) / det));
-        double B[3], Bu[3], Bv[3];
-        _cb_ssi_bez_eval(B, Bu, Bv, P, nu, nv);
-        double e = (B[0] - X[0]) * (B[0] - X[0]) + (B[1] - X[1]) * (B[1] - X[1]) +
-                   (B[2] - X[2]) * (B[2] - X[2]);
-        if (!(e < best))
-            break;
-        best = e;
-        uv[0] = nu;
-        uv[1] = nv;
-        memcpy(A, B, sizeof A);
-        memcpy(Au, Bu, sizeof Au);
-        memcpy(Av, Bv, sizeof Av);
-    }
-    return sqrt(best);
-}
-
-/* The subdivision route's test: every point of a 5 x 5 grid of Q within tol of P's continued
- * patch (the centre first, so a pair that is not coincident costs one projection). Patches of
- * one algebraic surface that only partly overlap are found too; two pieces of a B-spline
- * surface across a knot line are different polynomials and are not. */
-static int bez_near_coincident(const _cb_ssi_bez *P, const _cb_ssi_bez *Q, double tol)
-{
-    double uvp[2] = {0.5, 0.5};
-    for (int k = 0; k < 25; k++) {
-        int g = (k + 12) % 25;
-        double X[3], Xu[3], Xv[3];
-        _cb_ssi_bez_eval(X, Xu, Xv, Q, (g / 5) / 4.0, (g % 5) / 4.0);
-        if (!(bez_project(uvp, P, X, k > 0) <= tol))
+    double d[4];
+    cb_nurbs_surface_domain(q, d);
+    const int n = CB_SSI_COINCIDENT_GRID, n2 = n * n;
+    for (int k = 0; k < n2; k++) {
+        int g = (k + n2 / 2) % n2;
+        double X[3];
+        cb_nurbs_surface_eval(X, q, d[0] + (d[1] - d[0]) * (g / n) / (n - 1),
+                              d[2] + (d[3] - d[2]) * (g % n) / (n - 1));
+        if (!(implicit_dist(F, X) <= CB_SSI_COINCIDENT_FILTER * c->tol))
             return 0;
     }
     return 1;
@@ -505,8 +443,15 @@ static void spline_run(pair_job *J, const pair_ctx *c)
         snprintf(J->msg, sizeof J->msg, "%.190s", err.msg);
         return;
     }
-    if (bez_near_coincident(&P, &Q, c->tol)) {
+    int proved = 0;
+    double width = 0;
+    if (_cb_ssi_coincide_filter_bez(&P, &Q, c->tol))
+        proved = _cb_ssi_coincide_reparam(&width, c->ppat + J->ip, c->qpat + J->iq, &P, &Q,
+                                          c->tol);
+    if (proved) {
         J->coincident = 1;
+        J->c_exact = proved == 1;
+        J->c_width = width;
         job_orientation(J, c);
         J->t_topo = now_s() - t0;
         _cb_ssi_bez_clear(&P);
@@ -633,8 +578,11 @@ static cb_status topo_trace(pair_job *J, const pair_ctx *c, const _cb_ssi_pair_g
                 tc->fixed[i] = (f & ~12u) | ((f & 4u) << 1) | ((f & 8u) >> 1);
             }
         }
+        slong first = J->pieces.n;
         if (st == CB_OK)
             st = _cb_ssi_clip(&J->pieces, &ts, g);
+        if (st == CB_OK)
+            st = _cb_ssi_ends_from_graph(&J->pieces, first, T, mp, ctx, swap);
         if (st != CB_OK)
             cb_error_set(err, st, "tracing: out of memory");
         _cb_ssi_trace_set_clear(&ts);
@@ -677,6 +625,7 @@ static void pair_run(pair_job *J, const pair_ctx *c)
     g.tol = c->tol;
     g.chord = c->chord;
     g.max_seg = c->max_seg;
+    g.size = c->size;
 
     cb_phi_t phi;
     cb_phi_init(phi);
@@ -709,10 +658,14 @@ static void pair_run(pair_job *J, const pair_ctx *c)
         nneg += phi->bern[k] < 0;
         nz += !fmpz_is_zero(phi->c + k);
     }
-    if (nz == 0 || job_near_coincident(c, J, F)) {
-        /* Q lies on P's surface: exactly (phi = 0), or within tol (rounded input, where phi
-         * may even be of one sign). */
+    double width = 0;
+    if (nz == 0 || (job_near_coincident(c, J, F) &&
+                    _cb_ssi_coincide_implicit(&width, F, phi, g.q, c->qpat + J->iq, c->tol))) {
+        /* Q lies on P's surface: exactly (phi = 0), or proved within tol (rounded input,
+         * where phi may even be of one sign). */
         J->coincident = 1;
+        J->c_exact = nz == 0;
+        J->c_width = width;
         job_orientation(J, c);
         cb_phi_clear(phi);
         J->t_topo = now_s() - t0;
@@ -797,8 +750,25 @@ static void pair_body(void *vctx, size_t begin, size_t end)
     }
 }
 
+/* x in a patch's local [lo, hi] = [0, 1] mapped to the domain [d0, d1]: 0 and 1 exactly to
+ * the ends, so that the shared sides of neighbouring patches compare equal; dn < 0 rounds
+ * down, > 0 up (enclosures), 0 nearest. */
+static double local_to_dom(double x, double d0, double d1, int dn)
+{
+    if (x == 0)
+        return d0;
+    if (x == 1)
+        return d1;
+    if (!isfinite(x))
+        return x;
+    double y = d0 + x * (d1 - d0);
+    double e = (fabs(y) + fabs(d0) + fabs(d1 - d0)) * 0x1p-51;
+    return dn < 0 ? y - e : (dn > 0 ? y + e : y);
+}
+
 /* Pieces from local patch parameters to the surfaces' domains (analytic angles into
- * [lo, lo + period)). */
+ * [lo, lo + period)), their ends' lines with them (the exact roots stay local, with the
+ * patch's range saying which local coordinates they are). */
 static void to_domains(_cb_ssi_piece_set *ps, const cb_dixon_patch_struct *Pp,
                        const cb_ssi_surface *Ps, const cb_dixon_patch_struct *Qp)
 {
@@ -806,16 +776,31 @@ static void to_domains(_cb_ssi_piece_set *ps, const cb_dixon_patch_struct *Pp,
     if (!Pp)
         analytic_periods(per, &Ps->analytic);
     for (slong k = 0; k < ps->n; k++)
+        for (int e = 0; e < 2; e++)
+            for (int l = 0; l < ps->p[k].end[e].nl; l++) {
+                _cb_ssi_end_line *ln = ps->p[k].end[e].ln + l;
+                const cb_dixon_patch_struct *D = ln->sigma ? Qp : Pp;
+                if (!D) {
+                    ln->range[0] = ln->range[1] = NAN;
+                    continue;
+                }
+                const double *d = D->domain;
+                int fr = 1 - ln->dir;
+                ln->c = local_to_dom(ln->c, d[2 * ln->dir], d[2 * ln->dir + 1], 0);
+                ln->lo = local_to_dom(ln->lo, d[2 * fr], d[2 * fr + 1], -1);
+                ln->hi = local_to_dom(ln->hi, d[2 * fr], d[2 * fr + 1], 1);
+                ln->range[0] = d[2 * fr];
+                ln->range[1] = d[2 * fr + 1];
+            }
+    for (slong k = 0; k < ps->n; k++)
         for (slong i = 0; i < ps->p[k].n; i++) {
             _cb_ssi_pq *q = ps->p[k].pt + i;
-            double a, b;
-            cb_dixon_patch_to_domain(&a, &b, Qp, q->st[0], q->st[1]);
-            q->st[0] = a;
-            q->st[1] = b;
+            for (int d = 0; d < 2; d++)
+                q->st[d] = local_to_dom(q->st[d], Qp->domain[2 * d], Qp->domain[2 * d + 1], 0);
             if (Pp) {
-                cb_dixon_patch_to_domain(&a, &b, Pp, q->uv[0], q->uv[1]);
-                q->uv[0] = a;
-                q->uv[1] = b;
+                for (int d = 0; d < 2; d++)
+                    q->uv[d] =
+                        local_to_dom(q->uv[d], Pp->domain[2 * d], Pp->domain[2 * d + 1], 0);
             } else {
                 for (int d = 0; d < 2; d++) {
                     double lo = Ps->range[2 * d];
@@ -835,77 +820,30 @@ static void box_to_domain(double out[4], const double loc[4], const cb_nurbs_sur
         out[k] = d[k & 2] + loc[k] * (d[(k & 2) + 1] - d[k & 2]);
 }
 
-cb_ssi_coincident *_cb_ssi_add_coincident(cb_ssi_result_t r, int fa, int fb, int pa, int pb,
-                                          int same_normal, const double xyz[3])
+/* The region of a patch pair coincident within tolerance: both patches' parameter boxes (an
+ * analytic P's range), Q's control box, the proved width. CB_ERR_NOMEM. */
+static cb_status coincidence_region(cb_ssi_result_t r, const pair_job *J, int fa, int fb, int pa,
+                                    int pb, int swapped, const cb_nurbs_surface_struct *ppat,
+                                    const cb_ssi_surface *Ps,
+                                    const cb_nurbs_surface_struct *qpat)
 {
-    if (r->n_coincident == r->alloc_coincident) {
-        slong alloc = r->alloc_coincident ? 2 * r->alloc_coincident : 8;
-        cb_ssi_coincident *q = realloc(r->coincident, (size_t)alloc * sizeof(*q));
-        if (!q)
-            return NULL;
-        r->coincident = q;
-        r->alloc_coincident = alloc;
-    }
-    cb_ssi_coincident *c = r->coincident + r->n_coincident++;
-    c->face_a = fa;
-    c->face_b = fb;
-    c->patch_a = pa;
-    c->patch_b = pb;
-    c->patch_pairs = 1;
-    c->whole = 1;
-    c->same_normal = c->same_face_normal = same_normal != 0;
-    memcpy(c->xyz, xyz, sizeof c->xyz);
-    return c;
-}
-
-cb_status _cb_ssi_add_failure(cb_ssi_result_t r, int fa, int fb, int pa, int pb, cb_status st,
-                              const char *msg)
-{
-    if (r->n_failed == r->alloc_failed) {
-        slong alloc = r->alloc_failed ? 2 * r->alloc_failed : 8;
-        cb_ssi_failure *q = realloc(r->failed, (size_t)alloc * sizeof(*q));
-        if (!q) {
-            /* The failure goes unlisted, but r must not read as certified. */
-            if (r->status == CB_OK)
-                r->status = CB_ERR_NOMEM;
-            return CB_ERR_NOMEM;
-        }
-        r->failed = q;
-        r->alloc_failed = alloc;
-    }
-    cb_ssi_failure *f = r->failed + r->n_failed++;
-    f->face_a = fa;
-    f->face_b = fb;
-    f->patch_a = pa;
-    f->patch_b = pb;
-    f->status = st;
-    snprintf(f->msg, sizeof f->msg, "%s", msg);
-    f->has_box = 0;
-    memset(f->box_a, 0, sizeof f->box_a);
-    memset(f->box_b, 0, sizeof f->box_b);
-    if (r->status == CB_OK)
-        r->status = st;
-    return CB_OK;
-}
-
-static double surface_dist(const cb_ssi_surface *S, const double uv[2], const double X[3])
-{
-    double p[3];
-    if (S->kind == CB_SSI_ANALYTIC)
-        cb_analytic_eval(p, &S->analytic, uv[0], uv[1]);
+    cb_ssi_region *g = _cb_ssi_add_region(r, CB_SSI_REGION_COINCIDENCE, fa, fb, pa, pb,
+                                          J->c_width);
+    if (!g)
+        return CB_ERR_NOMEM;
+    double bp[4], bq[4];
+    if (ppat)
+        cb_nurbs_surface_domain(ppat + J->ip, bp);
     else
-        cb_nurbs_surface_eval(p, S->nurbs, uv[0], uv[1]);
-    return sqrt((p[0] - X[0]) * (p[0] - X[0]) + (p[1] - X[1]) * (p[1] - X[1]) +
-                (p[2] - X[2]) * (p[2] - X[2]));
-}
-
-/* Distances of an output point to both surfaces at its own parameters: an upper bound on its
- * distance to each surface, recorded in r. */
-static void measure(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_ssi_surface *B,
-                    const cb_ssi_point *p)
-{
-    r->max_dist_a = fmax(r->max_dist_a, surface_dist(A, p->uv_a, p->xyz));
-    r->max_dist_b = fmax(r->max_dist_b, surface_dist(B, p->uv_b, p->xyz));
+        memcpy(bp, Ps->range, sizeof bp);
+    cb_nurbs_surface_domain(qpat + J->iq, bq);
+    memcpy(swapped ? g->box_b : g->box_a, bp, sizeof bp);
+    memcpy(swapped ? g->box_a : g->box_b, bq, sizeof bq);
+    cb_aabb b;
+    cb_nurbs_surface_aabb(&b, qpat + J->iq);
+    memcpy(g->lo, b.lo, sizeof g->lo);
+    memcpy(g->hi, b.hi, sizeof g->hi);
+    return CB_OK;
 }
 
 /* The per-patch boxes of cb_ssi_surfaces, used only while the patch pairs are chosen. */
@@ -1131,17 +1069,18 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
     }
     if (st == CB_OK) {
         pair_ctx pc = {job, P, ppat ? NULL : F_an, Ps, Q, ppat, qpat, opts, tol, chord,
-                       0.05 * size};
+                       0.05 * size, size};
         st = cb_parallel_for((size_t)nj, 1, opts->threads, pair_body, &pc);
         if (st != CB_OK)
             cb_error_set(err, st, "ssi: parallel patch pairs failed: %s", cb_status_name(st));
     }
     if (st == CB_OK) {
-        _cb_ssi_piece_set *sets = malloc((size_t)(nj + 1) * sizeof(_cb_ssi_piece_set));
+        _cb_ssi_stitch_set *sets = malloc((size_t)(nj + 1) * sizeof(_cb_ssi_stitch_set));
+        _cb_ssi_piece_set *psets = malloc((size_t)(nj + 1) * sizeof(_cb_ssi_piece_set));
         _cb_ssi_tiny_set *tiny = malloc((size_t)(nj + 1) * sizeof(_cb_ssi_tiny_set));
         char *bad = calloc((size_t)nj + 1, 1);
         long *unres = calloc((size_t)nj + 1, sizeof(long));
-        if (!sets || !tiny || !bad || !unres)
+        if (!sets || !psets || !tiny || !bad || !unres)
             st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory for the curves of %ld "
                               "patch pairs", (long)nj);
         /* Tangent regions the subdivision route left at its floor, resolved over all patch
@@ -1151,17 +1090,48 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
             pair_job *J = job + k;
             if (!J->spline && J->st == CB_OK)
                 to_domains(&J->pieces, P ? P[J->ip].dp : NULL, Ps, Q + J->iq);
-            sets[k] = J->pieces;
+            psets[k] = J->pieces;
             tiny[k] = J->tiny;
         }
         long regions = 0, nodes = 0;
         double wt_width = 0;
-        if (st == CB_OK && _cb_ssi_tiny_resolve(sets, nj, tiny, bad, unres, tol, &regions,
-                                                &nodes, &wt_width) < 0)
+        _cb_ssi_tiny_region *treg = NULL;
+        slong ntreg = 0;
+        char *twithin = calloc((size_t)nj + 1, 1);
+        if (st == CB_OK && !twithin)
             st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory resolving tangent regions");
+        if (st == CB_OK && _cb_ssi_tiny_resolve(psets, nj, tiny, bad, unres, tol, &regions,
+                                                &nodes, &wt_width, &treg, &ntreg, twithin) < 0)
+            st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory resolving tangent regions");
+        /* Each resolved region listed: a near node (at most tol across), or a contact band
+         * (up to 100 tol, every member proved within tol of the other surface). */
+        for (slong g = 0; g < ntreg && st == CB_OK; g++) {
+            const _cb_ssi_tiny_region *tr = treg + g;
+            const pair_job *J = job + tr->job;
+            int pa = ppat ? J->ip : -1, pb = J->iq;
+            cb_ssi_region *rg = _cb_ssi_add_region(
+                r, tr->width <= tol ? CB_SSI_REGION_NEAR_NODE : CB_SSI_REGION_CONTACT_BAND, fa,
+                fb, swapped ? pb : pa, swapped ? pa : pb, tr->width);
+            if (!rg) {
+                st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory recording a tangent "
+                                  "region");
+                break;
+            }
+            memcpy(rg->lo, tr->lo, sizeof rg->lo);
+            memcpy(rg->hi, tr->hi, sizeof rg->hi);
+            double *bp = swapped ? rg->box_b : rg->box_a, *bq = swapped ? rg->box_a : rg->box_b;
+            for (int d = 0; d < 2; d++) {
+                bp[2 * d] = bp[2 * d + 1] = tr->uv[d];
+                bq[2 * d] = bq[2 * d + 1] = tr->st[d];
+            }
+        }
+        for (slong k = 0; k < nj && twithin; k++)
+            job[k].tiny_within = twithin[k];
+        free(treg);
+        free(twithin);
         for (slong k = 0; k < nj && st == CB_OK; k++) {
             pair_job *J = job + k;
-            J->pieces = sets[k];
+            J->pieces = psets[k];
             if (!bad[k])
                 continue;
             /* A region larger than the tolerance: the pair is not certified. */
@@ -1174,6 +1144,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
             }
             J->sst.uncertified += unres[k];
         }
+        free(psets);
         r->regions_within_tol += regions;
         r->nodes_within_tol += nodes;
         r->width_within_tol = fmax(r->width_within_tol, wt_width);
@@ -1181,25 +1152,39 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
         free(bad);
         free(unres);
         slong n_coinc = 0, first_coinc = -1;
+        int c_exact = 1;
+        double c_width = 0;
         for (slong k = 0; k < nj && st == CB_OK; k++) {
             pair_job *J = job + k;
             r->time_topo += J->t_topo;
             r->time_trace += J->t_trace;
             r->subpairs += J->sst.subpairs;
+            int pa = ppat ? J->ip : -1, pb = J->iq;
+            if (swapped) {
+                int t = pa;
+                pa = pb;
+                pb = t;
+            }
             if (J->st == CB_OK && J->coincident) {
-                r->pairs_certified++;
                 r->pairs_coincident++;
                 n_coinc++;
                 /* The pair whose comparison point lies on both patches (or nearest). */
                 if (first_coinc < 0 || J->cdist < job[first_coinc].cdist)
                     first_coinc = k;
-            } else if (J->st != CB_OK) {
-                int pa = ppat ? J->ip : -1, pb = J->iq;
-                if (swapped) {
-                    int t = pa;
-                    pa = pb;
-                    pb = t;
+                if (J->c_exact) {
+                    r->pairs_certified++;
+                } else {
+                    r->pairs_within_tolerance++;
+                    c_exact = 0;
+                    c_width = fmax(c_width, J->c_width);
+                    if (coincidence_region(r, J, fa, fb, pa, pb, swapped, ppat, Ps, qpat) !=
+                        CB_OK) {
+                        st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory recording a "
+                                          "coincidence within tolerance");
+                        break;
+                    }
                 }
+            } else if (J->st != CB_OK) {
                 if (_cb_ssi_add_failure(r, fa, fb, pa, pb, J->st, J->msg) != CB_OK) {
                     st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory recording an "
                                       "uncertified patch pair (%s)", cb_status_name(J->st));
@@ -1214,12 +1199,24 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                     memcpy(swapped ? f->box_b : f->box_a, bp, sizeof bp);
                     memcpy(swapped ? f->box_a : f->box_b, bq, sizeof bq);
                 }
+            } else if (J->tiny_within) {
+                r->pairs_within_tolerance++;
+                J->within = 1;
             } else {
                 r->pairs_certified++;
                 r->pairs_empty += J->empty;
             }
             r->pairs_subdivided += J->fallback;
-            sets[k] = J->pieces;
+            _cb_ssi_stitch_set *S = sets + k;
+            S->ps = &J->pieces;
+            S->patch_a = pa;
+            S->patch_b = pb;
+            S->outcome = CB_SSI_CERTIFIED;
+            for (int q = 0; q < 4; q++)
+                S->pdom[q] = NAN;
+            if (ppat)
+                cb_nurbs_surface_domain(ppat + J->ip, S->pdom);
+            cb_nurbs_surface_domain(qpat + J->iq, S->qdom);
             if (J->st == CB_OK && !J->spline && J->n_marks > 0) {
                 for (slong i = 0; i < J->n_marks; i++) {
                     J->marks[i].face_a = fa;
@@ -1238,7 +1235,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
             int pa = ppat ? J->ip : -1, pb = J->iq;
             cb_ssi_coincident *cr =
                 _cb_ssi_add_coincident(r, fa, fb, swapped ? pb : pa, swapped ? pa : pb,
-                                       J->same_normal, J->cxyz);
+                                       J->same_normal, J->cxyz, c_exact, c_width);
             if (cr) {
                 cr->patch_pairs = n_coinc;
                 cr->whole = n_coinc == nj;
@@ -1248,22 +1245,32 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
             }
         }
         slong c0 = r->n_curves, q0 = r->n_points;
-        /* Pieces of the subdivision route meet at boundary roots solved from the same
-         * equations (they agree to round-off), so they are joined at tol: 10 tol, needed for
-         * the algebraic route's refined ends, would swallow a piece shorter than that at a
-         * patch side and leave the curve ending up to 10 tol short of the face boundary. */
-        int all_spline = 1;
-        for (slong k = 0; k < nj; k++)
-            all_spline &= job[k].spline;
-        if (st == CB_OK &&
-            _cb_ssi_stitch(r, sets, nj, swapped, fa, fb, (all_spline ? 1 : 10) * tol, chord))
+        _cb_ssi_stitch_opts so = {swapped, fa, fb, tol, chord, 0, {{{0}}}};
+        for (int sg = 0; sg < 2; sg++) {
+            const cb_ssi_surface *S = sg ? Qs : Ps;
+            if (S->kind == CB_SSI_NURBS)
+                _cb_ssi_seams(so.seam[sg], S->nurbs);
+            else
+                for (int d = 0; d < 2; d++)
+                    so.seam[sg][d][0] = so.seam[sg][d][1] = NAN;
+        }
+        if (st == CB_OK && _cb_ssi_stitch(r, sets, nj, &so))
             st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory joining curves");
+        /* Pairs whose curves' ends were joined within tolerance, or whose joins were refused
+         * (a failure record of its own says so), are certified no longer. */
+        for (slong k = 0; k < nj && st == CB_OK; k++)
+            if (sets[k].outcome != CB_SSI_CERTIFIED && job[k].st == CB_OK &&
+                !job[k].coincident && !job[k].within) {
+                r->pairs_certified--;
+                if (sets[k].outcome == CB_SSI_WITHIN_TOL)
+                    r->pairs_within_tolerance++;
+            }
         free(sets);
         for (slong c = c0; c < r->n_curves; c++)
             for (slong i = 0; i < r->curve[c].n; i++)
-                measure(r, A, B, r->curve[c].pt + i);
+                _cb_ssi_result_measure(r, A, B, r->curve[c].pt + i);
         for (slong q = q0; q < r->n_points; q++)
-            measure(r, A, B, &r->point[q].p);
+            _cb_ssi_result_measure(r, A, B, &r->point[q].p);
     }
     for (slong k = 0; k < nj; k++) {
         _cb_ssi_piece_set_clear(&job[k].pieces);

@@ -24,6 +24,7 @@
 
 #include "brep/geom.h"
 #include "ssi/ssi.h"
+#include "ssi/ssi_tol.h"
 
 /* Samples per direction over the B-spline's domain for fitting a candidate. */
 #define FIT_GRID 9
@@ -353,6 +354,23 @@ static double patch_dist(const cb_nurbs_surface_struct *pat, const cb_analytic_s
     return bound * (1 + 8 * u) + eps;
 }
 
+/* The same B-spline exactly: degrees, counts, knots and homogeneous control points. */
+static int identical(const cb_nurbs_surface_struct *a, const cb_nurbs_surface_struct *b)
+{
+    if (a->deg_u != b->deg_u || a->deg_v != b->deg_v || a->n_u != b->n_u || a->n_v != b->n_v)
+        return 0;
+    for (int k = 0; k < a->n_u + a->deg_u + 1; k++)
+        if (a->knots_u[k] != b->knots_u[k])
+            return 0;
+    for (int k = 0; k < a->n_v + a->deg_v + 1; k++)
+        if (a->knots_v[k] != b->knots_v[k])
+            return 0;
+    for (int k = 0; k < 4 * a->n_u * a->n_v; k++)
+        if (a->cw[k] != b->cw[k])
+            return 0;
+    return 1;
+}
+
 /* The proved largest distance of s from a (<= delta: 1 and *dev set), or 0. */
 static int prove_on(double *dev, const cb_nurbs_surface_struct *s, const cb_analytic_surface *a,
                     double delta)
@@ -433,6 +451,63 @@ int _cb_ssi_recognise(cb_analytic_surface *a, double range[4], double *dev,
 
 /* ---------------------------------------------------------------- pairs -------------------- */
 
+/* The closed forms' coincidences are between the analytic surfaces; the B-splines lie within
+ * dev of them, so a coincidence is exact for the B-splines only when both are the same net or
+ * lie on their analytic surfaces exactly (dev 0). Otherwise it is within tolerance, its width
+ * the analytic one plus both deviations, with a COINCIDENCE region in the B-splines' domains.
+ * CB_ERR_NOMEM. */
+static cb_status demote_coincidences(cb_ssi_result_t t, const cb_ssi_surface *const in[2],
+                                     const int rec[2], const double dev[2])
+{
+    int same = in[0]->kind == CB_SSI_NURBS && in[1]->kind == CB_SSI_NURBS &&
+               identical(in[0]->nurbs, in[1]->nurbs);
+    for (slong g = 0; g < t->n_regions; g++) {
+        cb_ssi_region *rg = t->region + g;
+        if (rg->kind != CB_SSI_REGION_COINCIDENCE)
+            continue;
+        rg->width += dev[0] + dev[1];
+        for (int q = 0; q < 2; q++)
+            if (rec[q])
+                cb_nurbs_surface_domain(in[q]->nurbs, q ? rg->box_b : rg->box_a);
+    }
+    for (slong k = 0; k < t->n_coincident; k++) {
+        cb_ssi_coincident *c = t->coincident + k;
+        if (!c->exact) {
+            c->width += dev[0] + dev[1];
+            continue;
+        }
+        if (same || (dev[0] == 0 && dev[1] == 0))
+            continue;
+        c->exact = 0;
+        c->width = dev[0] + dev[1];
+        t->pairs_certified--;
+        t->pairs_within_tolerance++;
+        cb_ssi_region *g = _cb_ssi_add_region(t, CB_SSI_REGION_COINCIDENCE, c->face_a,
+                                              c->face_b, -1, -1, c->width);
+        if (!g)
+            return CB_ERR_NOMEM;
+        for (int q = 0; q < 3; q++) {
+            g->lo[q] = -HUGE_VAL;
+            g->hi[q] = HUGE_VAL;
+        }
+        for (int q = 0; q < 2; q++) {
+            double *bx = q ? g->box_b : g->box_a;
+            if (in[q]->kind == CB_SSI_NURBS) {
+                cb_nurbs_surface_domain(in[q]->nurbs, bx);
+                cb_aabb b;
+                cb_nurbs_surface_aabb(&b, in[q]->nurbs);
+                for (int d = 0; d < 3; d++) {
+                    g->lo[d] = fmax(g->lo[d], b.lo[d]);
+                    g->hi[d] = fmin(g->hi[d], b.hi[d]);
+                }
+            } else {
+                memcpy(bx, in[q]->range, 4 * sizeof(double));
+            }
+        }
+    }
+    return CB_OK;
+}
+
 cb_status _cb_ssi_recognised_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
                                   const cb_ssi_surface *B, int face_a, int face_b,
                                   const cb_ssi_opts *opts, int *done, cb_error *err)
@@ -456,7 +531,7 @@ cb_status _cb_ssi_recognised_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
         const cb_nurbs_surface_struct *n = in[k]->nurbs;
         /* Proved within a thousandth of the tolerance (the default tolerance relative to the
          * net's own size when none is given). */
-        double delta = 1e-3 * opts->tol;
+        double delta = CB_SSI_RECOGNISE * opts->tol;
         if (!(opts->tol > 0)) {
             cb_aabb b;
             cb_nurbs_surface_aabb(&b, n);
@@ -493,7 +568,10 @@ cb_status _cb_ssi_recognised_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
          * as the B-spline route does. */
         if (s2 == CB_OK && t->pairs_closed_form > 0 && t->n_failed == 0 && t->status == CB_OK) {
             r->tol = t->tol;
-            if (_cb_ssi_result_move(r, t) != CB_OK)
+            if (demote_coincidences(t, in, rec, dev) != CB_OK)
+                st = cb_error_set(err, CB_ERR_NOMEM,
+                                  "ssi: out of memory recording coincident surfaces");
+            else if (_cb_ssi_result_move(r, t) != CB_OK)
                 st = cb_error_set(err, CB_ERR_NOMEM,
                                   "ssi: out of memory collecting the closed-form result");
             else

@@ -1,111 +1,266 @@
-/* ssi_stitch.c — the result type, and stitching pieces of patch pairs into maximal curves. */
+/* ssi_stitch.c — stitching the pieces of all patch pairs into maximal curves, by the identity of
+ * their ends (the certified graphs' vertices and boundary roots, ssi/ssi.h _cb_ssi_stitch),
+ * never by distance alone; the within-tolerance and refusal rules are those of ssi/ssi_tol.h. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "ssi/ssi.h"
+#include "ssi/ssi_tol.h"
 
-void cb_ssi_result_init(cb_ssi_result_t r)
+/* ---------------------------------------------------------------- piece ends --------------- */
+
+void _cb_ssi_end_init(_cb_ssi_end *e)
 {
-    memset(r, 0, sizeof(*r));
-    r->status = CB_OK;
+    memset(e, 0, sizeof(*e));
+    e->vid = -1;
+    e->region = -1;
 }
 
-void cb_ssi_result_clear(cb_ssi_result_t r)
+void _cb_ssi_end_clear(_cb_ssi_end *e)
 {
-    for (slong i = 0; i < r->n_curves; i++)
-        free(r->curve[i].pt);
-    free(r->curve);
-    free(r->point);
-    free(r->failed);
-    free(r->coincident);
-    free(r->mark);
-    cb_ssi_result_init(r);
-}
-
-cb_status _cb_ssi_add_marks(cb_ssi_result_t r, const cb_ssi_mark *m, slong n)
-{
-    if (r->n_marks + n > r->alloc_marks) {
-        slong alloc = FLINT_MAX(2 * r->alloc_marks, r->n_marks + n);
-        cb_ssi_mark *q = realloc(r->mark, (size_t)alloc * sizeof(*q));
-        if (!q)
-            return CB_ERR_NOMEM;
-        r->mark = q;
-        r->alloc_marks = alloc;
+    for (int k = 0; k < e->nl; k++) {
+        _cb_ssi_side_root *r = e->ln[k].root;
+        if (!r)
+            continue;
+        if (r->p) {
+            fmpz_poly_clear(r->p);
+            free(r->p);
+        }
+        fmpq_clear(r->lo);
+        fmpq_clear(r->hi);
+        free(r);
     }
-    memcpy(r->mark + r->n_marks, m, (size_t)n * sizeof(*m));
-    r->n_marks += n;
+    _cb_ssi_end_init(e);
+}
+
+_cb_ssi_end_line *_cb_ssi_end_add_line(_cb_ssi_end *e, int sigma, int dir, int half, double c,
+                                       double lo, double hi)
+{
+    if (e->nl >= 2)
+        return NULL;
+    _cb_ssi_end_line *l = e->ln + e->nl++;
+    l->sigma = sigma;
+    l->dir = dir;
+    l->half = half;
+    l->c = c;
+    l->lo = lo;
+    l->hi = hi;
+    l->range[0] = 0;
+    l->range[1] = 1;
+    l->root = NULL;
+    return l;
+}
+
+/* Outward double bounds of an exact rational. */
+static double fmpq_down(const fmpq_t x)
+{
+    double d = fmpq_get_d(x);
+    return d - (fabs(d) * 0x1p-51 + 0x1p-1070);
+}
+
+static double fmpq_up(const fmpq_t x)
+{
+    double d = fmpq_get_d(x);
+    return d + (fabs(d) * 0x1p-51 + 0x1p-1070);
+}
+
+/* phi(var = c) as a univariate polynomial in the other variable of ctx. */
+static void restrict_side(fmpz_poly_t out, const fmpz_mpoly_t phi, const fmpz_mpoly_ctx_t ctx,
+                          int var, int c)
+{
+    fmpz_mpoly_t r;
+    fmpz_mpoly_init(r, ctx);
+    fmpz_t cz;
+    fmpz_init_set_si(cz, c);
+    fmpz_mpoly_evaluate_one_fmpz(r, phi, var, cz, ctx);
+    if (!fmpz_mpoly_get_fmpz_poly(out, r, 1 - var, ctx))
+        fmpz_poly_zero(out);
+    fmpz_clear(cz);
+    fmpz_mpoly_clear(r, ctx);
+}
+
+cb_status _cb_ssi_ends_from_graph(_cb_ssi_piece_set *ps, slong first, const cb_ctopo_t T,
+                                  const fmpz_mpoly_t phi, const fmpz_mpoly_ctx_t ctx, int swap)
+{
+    for (slong k = first; k < ps->n; k++) {
+        _cb_ssi_piece *pc = ps->p + k;
+        for (int e = 0; e < (pc->isolated ? 1 : 2); e++) {
+            _cb_ssi_end *end = pc->end + e;
+            if (end->vid < 0 || end->vid >= T->n_vertices)
+                continue;
+            const cb_ctopo_vertex_struct *V = T->vertex + end->vid;
+            for (int side = 0; side < 4; side++) {
+                if (!(V->sides & (1u << side)))
+                    continue;
+                /* Sides S0, S1 hold T's s (the free coordinate is t); T0, T1 hold t. */
+                int tfix = side >= 2, c = side & 1;
+                int qdir = swap ? !tfix : tfix;
+                _cb_ssi_side_root *root = malloc(sizeof *root);
+                fmpz_poly_struct *p = malloc(sizeof *p);
+                if (!root || !p) {
+                    free(root);
+                    free(p);
+                    return CB_ERR_NOMEM;
+                }
+                fmpz_poly_init(p);
+                fmpq_init(root->lo);
+                fmpq_init(root->hi);
+                fmpq_t cq;
+                fmpq_init(cq);
+                fmpq_set_si(cq, c, 1);
+                /* The curve's points on the side are the roots of phi there (vertical lines
+                 * of phi's content included); a side s = c that is itself such a line: the
+                 * roots of h (the branches crossing it; its ends are box corners). */
+                restrict_side(p, phi, ctx, tfix, c);
+                if (fmpz_poly_is_zero(p) && !tfix)
+                    cb_bipoly_eval_s_fmpq(p, T->h, cq);
+                if (tfix) {
+                    fmpq_set(root->lo, V->s_lo);
+                    fmpq_set(root->hi, V->s_hi);
+                } else {
+                    fmpq_set(root->lo, V->t_lo);
+                    fmpq_set(root->hi, V->t_hi);
+                }
+                fmpq_clear(cq);
+                if (fmpz_poly_is_zero(p)) {
+                    /* The side lies on the curve: only exact points compare. */
+                    fmpz_poly_clear(p);
+                    free(p);
+                    p = NULL;
+                } else {
+                    fmpz_poly_primitive_part(p, p);
+                }
+                root->p = p;
+                _cb_ssi_end_line *l = _cb_ssi_end_add_line(end, 1, qdir, c ? -1 : 1, c,
+                                                           fmpq_down(root->lo),
+                                                           fmpq_up(root->hi));
+                if (!l) {
+                    if (p) {
+                        fmpz_poly_clear(p);
+                        free(p);
+                    }
+                    fmpq_clear(root->lo);
+                    fmpq_clear(root->hi);
+                    free(root);
+                    continue;
+                }
+                l->root = root;
+            }
+        }
+    }
     return CB_OK;
 }
 
-cb_status _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s)
+/* 1: the exact roots a and b (same line, same patch strip) are the same point, 0: different
+ * points, -1: not decided (no polynomial where one is needed). */
+static int exact_same(const _cb_ssi_side_root *a, const _cb_ssi_side_root *b)
 {
-    if (s->n_curves) {
-        if (r->n_curves + s->n_curves > r->alloc_curves) {
-            slong alloc = FLINT_MAX(2 * r->alloc_curves, r->n_curves + s->n_curves);
-            cb_ssi_curve *q = realloc(r->curve, (size_t)alloc * sizeof(*q));
-            if (!q)
-                return CB_ERR_NOMEM;
-            r->curve = q;
-            r->alloc_curves = alloc;
+    if (fmpq_cmp(a->hi, b->lo) < 0 || fmpq_cmp(b->hi, a->lo) < 0)
+        return 0;
+    int ea = fmpq_equal(a->lo, a->hi), eb = fmpq_equal(b->lo, b->hi);
+    if (ea && eb)
+        return fmpq_equal(a->lo, b->lo);
+    if (ea || eb) {
+        /* The exact point r lies in the other's interval: the same point iff it is the
+         * other's (only) root there. */
+        const _cb_ssi_side_root *x = ea ? a : b, *y = ea ? b : a;
+        if (!y->p)
+            return -1;
+        fmpq_t v;
+        fmpq_init(v);
+        fmpz_poly_evaluate_fmpq(v, y->p, x->lo);
+        int z = fmpq_is_zero(v);
+        fmpq_clear(v);
+        return z;
+    }
+    if (!a->p || !b->p)
+        return -1;
+    /* Both roots in open intervals, each the only root of its polynomial there: they are one
+     * point iff gcd(a.p, b.p) vanishes in the intersection of the intervals. */
+    fmpq_t lo, hi;
+    fmpq_init(lo);
+    fmpq_init(hi);
+    fmpq_set(lo, fmpq_cmp(a->lo, b->lo) > 0 ? a->lo : b->lo);
+    fmpq_set(hi, fmpq_cmp(a->hi, b->hi) < 0 ? a->hi : b->hi);
+    fmpz_poly_t g;
+    fmpz_poly_init(g);
+    fmpz_poly_gcd(g, a->p, b->p);
+    int same = 0;
+    if (fmpz_poly_degree(g) >= 1) {
+        if (fmpq_equal(lo, hi)) {
+            fmpq_t v;
+            fmpq_init(v);
+            fmpz_poly_evaluate_fmpq(v, g, lo);
+            same = fmpq_is_zero(v);
+            fmpq_clear(v);
+        } else {
+            cb_roots_t rt;
+            cb_roots_init(rt);
+            cb_error err;
+            same = cb_roots_isolate(rt, g, lo, hi, &err) == CB_OK ? rt->n > 0 : -1;
+            cb_roots_clear(rt);
         }
-        memcpy(r->curve + r->n_curves, s->curve, (size_t)s->n_curves * sizeof(*s->curve));
-        r->n_curves += s->n_curves;
-        s->n_curves = 0;
     }
-    if (s->n_points) {
-        if (r->n_points + s->n_points > r->alloc_points) {
-            slong alloc = FLINT_MAX(2 * r->alloc_points, r->n_points + s->n_points);
-            cb_ssi_isolated *q = realloc(r->point, (size_t)alloc * sizeof(*q));
-            if (!q)
-                return CB_ERR_NOMEM;
-            r->point = q;
-            r->alloc_points = alloc;
-        }
-        memcpy(r->point + r->n_points, s->point, (size_t)s->n_points * sizeof(*s->point));
-        r->n_points += s->n_points;
-        s->n_points = 0;
-    }
-    for (slong k = 0; k < s->n_failed; k++) {
-        const cb_ssi_failure *f = s->failed + k;
-        if (_cb_ssi_add_failure(r, f->face_a, f->face_b, f->patch_a, f->patch_b, f->status,
-                                f->msg) != CB_OK)
-            return CB_ERR_NOMEM;
-        cb_ssi_failure *g = r->failed + r->n_failed - 1;
-        g->has_box = f->has_box;
-        memcpy(g->box_a, f->box_a, sizeof g->box_a);
-        memcpy(g->box_b, f->box_b, sizeof g->box_b);
-    }
-    s->n_failed = 0;
-    for (slong k = 0; k < s->n_coincident; k++) {
-        const cb_ssi_coincident *c = s->coincident + k;
-        cb_ssi_coincident *d = _cb_ssi_add_coincident(r, c->face_a, c->face_b, c->patch_a,
-                                                      c->patch_b, c->same_normal, c->xyz);
-        if (!d)
-            return CB_ERR_NOMEM;
-        *d = *c;
-    }
-    s->n_coincident = 0;
-    if (s->n_marks && _cb_ssi_add_marks(r, s->mark, s->n_marks) != CB_OK)
-        return CB_ERR_NOMEM;
-    s->n_marks = 0;
-    r->pairs_total += s->pairs_total;
-    r->pairs_culled += s->pairs_culled;
-    r->pairs_empty += s->pairs_empty;
-    r->pairs_certified += s->pairs_certified;
-    r->pairs_subdivided += s->pairs_subdivided;
-    r->pairs_coincident += s->pairs_coincident;
-    r->pairs_closed_form += s->pairs_closed_form;
-    r->subpairs += s->subpairs;
-    r->regions_within_tol += s->regions_within_tol;
-    r->nodes_within_tol += s->nodes_within_tol;
-    r->width_within_tol = fmax(r->width_within_tol, s->width_within_tol);
-    r->max_dist_a = fmax(r->max_dist_a, s->max_dist_a);
-    r->max_dist_b = fmax(r->max_dist_b, s->max_dist_b);
-    r->time_topo += s->time_topo;
-    r->time_trace += s->time_trace;
-    return CB_OK;
+    fmpz_poly_clear(g);
+    fmpq_clear(lo);
+    fmpq_clear(hi);
+    return same;
 }
+
+void _cb_ssi_seams(double seam[2][2], const cb_nurbs_surface_struct *s)
+{
+    double dom[4];
+    cb_nurbs_surface_domain(s, dom);
+    for (int dir = 0; dir < 2; dir++) {
+        seam[dir][0] = seam[dir][1] = NAN;
+        int n = dir ? s->n_v : s->n_u, m = dir ? s->n_u : s->n_v, ok = 1;
+        /* Control point k of the first and last row in direction dir. */
+#define CP(row, k) (s->cw + 4 * (dir ? (k) * s->n_v + (row) : (row) * s->n_v + (k)))
+        double w0 = CP(0, 0)[3], w1 = CP(n - 1, 0)[3];
+        int e;
+        double f = w1 / w0;
+        ok = w0 > 0 && w1 > 0 && frexp(f, &e) == 0.5; /* a power of two: exact products */
+        for (int k = 0; k < m && ok; k++)
+            for (int q = 0; q < 4 && ok; q++)
+                ok = CP(n - 1, k)[q] == f * CP(0, k)[q];
+#undef CP
+        if (ok) {
+            seam[dir][0] = dom[2 * dir];
+            seam[dir][1] = dom[2 * dir + 1];
+        }
+    }
+}
+
+/* Whether the exact local coordinates a in range ra and b in rb (each mapped affinely from
+ * [0, 1], ranges taken as the dyadic rationals they are) are one domain value. */
+static int exact_point_same(const fmpq_t a, const double ra[2], const fmpq_t b,
+                            const double rb[2])
+{
+    if (!isfinite(ra[0]) || !isfinite(ra[1]) || !isfinite(rb[0]) || !isfinite(rb[1]))
+        return -1;
+    fmpq_t x[2], d0, d1;
+    fmpq_init(d0);
+    fmpq_init(d1);
+    for (int k = 0; k < 2; k++) {
+        const double *r = k ? rb : ra;
+        fmpq_init(x[k]);
+        _cb_fmpq_set_d(d0, r[0]);
+        _cb_fmpq_set_d(d1, r[1]);
+        fmpq_sub(d1, d1, d0);
+        fmpq_mul(x[k], k ? b : a, d1);
+        fmpq_add(x[k], x[k], d0);
+    }
+    int same = fmpq_equal(x[0], x[1]);
+    fmpq_clear(x[0]);
+    fmpq_clear(x[1]);
+    fmpq_clear(d0);
+    fmpq_clear(d1);
+    return same;
+}
+
+/* ---------------------------------------------------------------- helpers ------------------ */
 
 static double d3(const double *a, const double *b)
 {
@@ -134,8 +289,32 @@ static double polyline_dist(const double *p, const double *x, slong n)
     return best;
 }
 
+static slong uf_find(slong *par, slong x)
+{
+    while (par[x] != x) {
+        par[x] = par[par[x]];
+        x = par[x];
+    }
+    return x;
+}
+
+/* Unites the classes of x and y, the lower index the root (so a node's first end is its
+ * root). */
+static void uf_union(slong *par, slong x, slong y)
+{
+    x = uf_find(par, x);
+    y = uf_find(par, y);
+    if (x == y)
+        return;
+    if (x < y)
+        par[y] = x;
+    else
+        par[x] = y;
+}
+
 typedef struct {
     const _cb_ssi_piece *p;
+    slong set;
     slong node[2];
     int dropped, used;
 } item;
@@ -144,7 +323,21 @@ typedef struct {
     double X[3];
     _cb_ssi_pq pq;
     slong deg;
+    int within; /* joined within tolerance */
 } node;
+
+/* The point and parameters of end e (2 i + side) of the items. */
+static const double *end_xyz(const item *it, slong e)
+{
+    const _cb_ssi_piece *p = it[e / 2].p;
+    return p->xyz + 3 * (e % 2 ? p->n - 1 : 0);
+}
+
+static const _cb_ssi_pq *end_pq(const item *it, slong e)
+{
+    const _cb_ssi_piece *p = it[e / 2].p;
+    return p->pt + (e % 2 ? p->n - 1 : 0);
+}
 
 static void out_point(cb_ssi_point *o, const double X[3], const _cb_ssi_pq *q, int swapped)
 {
@@ -152,22 +345,6 @@ static void out_point(cb_ssi_point *o, const double X[3], const _cb_ssi_pq *q, i
     const double *uv = q->uv, *st = q->st;
     memcpy(o->uv_a, swapped ? st : uv, 2 * sizeof(double));
     memcpy(o->uv_b, swapped ? uv : st, 2 * sizeof(double));
-}
-
-/* A new empty curve; NULL when out of memory (r is left as it was). */
-static cb_ssi_curve *add_curve(cb_ssi_result_t r)
-{
-    if (r->n_curves == r->alloc_curves) {
-        slong alloc = r->alloc_curves ? 2 * r->alloc_curves : 8;
-        cb_ssi_curve *q = realloc(r->curve, (size_t)alloc * sizeof(*q));
-        if (!q)
-            return NULL;
-        r->curve = q;
-        r->alloc_curves = alloc;
-    }
-    cb_ssi_curve *c = r->curve + r->n_curves++;
-    memset(c, 0, sizeof(*c));
-    return c;
 }
 
 static cb_status curve_append(cb_ssi_curve *c, slong *alloc, const double X[3],
@@ -206,56 +383,566 @@ static cb_status append_piece(cb_ssi_curve *c, slong *alloc, const item *it, int
     return st;
 }
 
-cb_status _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong nsets,
-                         int swapped, int face_a, int face_b, double merge_tol, double chord)
+/* ---------------------------------------------------------------- joining ends ------------- */
+
+/* One end on one line, for the sweep along the line; c the line's value with a seam's upper
+ * side taken as its lower one. */
+typedef struct {
+    slong e;
+    const _cb_ssi_end_line *l;
+    double c;
+} entry;
+
+static int cmp_entry(const void *va, const void *vb)
 {
-    slong ni = 0, nn = 0;
-    for (slong s = 0; s < nsets; s++)
-        ni += sets[s].n;
+    const entry *a = va, *b = vb;
+    if (a->l->sigma != b->l->sigma)
+        return a->l->sigma - b->l->sigma;
+    if (a->l->dir != b->l->dir)
+        return a->l->dir - b->l->dir;
+    if (a->c != b->c)
+        return a->c < b->c ? -1 : 1;
+    if (a->l->lo != b->l->lo)
+        return a->l->lo < b->l->lo ? -1 : 1;
+    return a->e < b->e ? -1 : (a->e > b->e);
+}
+
+typedef struct {
+    item *it;
+    slong ni;
+    slong *par;            /* union-find over ends 2 i + side */
+    char *decided;         /* per end: it had candidates and a rule decided */
+    char *within;          /* per end: joined within tolerance */
+    _cb_ssi_stitch_set *sets;
+    const _cb_ssi_stitch_opts *o;
+    cb_ssi_result_struct *r;
+} joiner;
+
+/* Relation of the ends of entries x and y: 1 the same point, 0 different points, -1 not
+ * decided by certified data. */
+static int entry_rel(const joiner *J, const entry *x, const entry *y)
+{
+    const _cb_ssi_end *ex = &J->it[x->e / 2].p->end[x->e % 2];
+    const _cb_ssi_end *ey = &J->it[y->e / 2].p->end[y->e % 2];
+    if (J->it[x->e / 2].set == J->it[y->e / 2].set && ex->vid >= 0 && ey->vid >= 0)
+        return ex->vid == ey->vid;
+    const _cb_ssi_side_root *a = x->l->root, *b = y->l->root;
+    if (a && b && x->l->range[0] == y->l->range[0] && x->l->range[1] == y->l->range[1])
+        return exact_same(a, b);
+    if (a && b && fmpq_equal(a->lo, a->hi) && fmpq_equal(b->lo, b->hi))
+        return exact_point_same(a->lo, x->l->range, b->lo, y->l->range);
+    return -1;
+}
+
+/* The box of the ends of entries E[0..m) into region or failure boxes; returns the diameter of
+ * the 3D box. Patch indices: the set's when all ends are of one set, else -1. */
+static double group_box(const joiner *J, const entry *E, slong m, double lo[3], double hi[3],
+                        double ba[4], double bb[4], int *pa, int *pb)
+{
+    for (int k = 0; k < 3; k++) {
+        lo[k] = HUGE_VAL;
+        hi[k] = -HUGE_VAL;
+    }
+    for (int k = 0; k < 2; k++) {
+        ba[2 * k] = bb[2 * k] = HUGE_VAL;
+        ba[2 * k + 1] = bb[2 * k + 1] = -HUGE_VAL;
+    }
+    slong set0 = J->it[E[0].e / 2].set;
+    int one = 1;
+    for (slong x = 0; x < m; x++) {
+        const double *X = end_xyz(J->it, E[x].e);
+        const _cb_ssi_pq *q = end_pq(J->it, E[x].e);
+        cb_ssi_point pt;
+        out_point(&pt, X, q, J->o->swapped);
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fmin(lo[k], X[k]);
+            hi[k] = fmax(hi[k], X[k]);
+        }
+        for (int k = 0; k < 2; k++) {
+            ba[2 * k] = fmin(ba[2 * k], pt.uv_a[k]);
+            ba[2 * k + 1] = fmax(ba[2 * k + 1], pt.uv_a[k]);
+            bb[2 * k] = fmin(bb[2 * k], pt.uv_b[k]);
+            bb[2 * k + 1] = fmax(bb[2 * k + 1], pt.uv_b[k]);
+        }
+        one &= J->it[E[x].e / 2].set == set0;
+    }
+    *pa = one ? J->sets[set0].patch_a : -1;
+    *pb = one ? J->sets[set0].patch_b : -1;
+    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}
+
+static void set_outcome(_cb_ssi_stitch_set *sets, slong set, cb_ssi_outcome o)
+{
+    if (o > sets[set].outcome)
+        sets[set].outcome = o;
+}
+
+/* The ambiguous group E[0..m): joined within tolerance when small, else refused (keeping the
+ * certified merges already made). kind names the cause in the failure message. */
+static cb_status ambiguous(joiner *J, const entry *E, slong m, const char *why)
+{
+    double lo[3], hi[3], ba[4], bb[4];
+    int pa, pb;
+    double diam = group_box(J, E, m, lo, hi, ba, bb, &pa, &pb);
+    const _cb_ssi_stitch_opts *o = J->o;
+    if (diam <= CB_SSI_NEAR_NODE * o->tol) {
+        cb_ssi_region *g =
+            _cb_ssi_add_region(J->r, CB_SSI_REGION_NEAR_NODE, o->face_a, o->face_b, pa, pb, diam);
+        if (!g)
+            return CB_ERR_NOMEM;
+        memcpy(g->lo, lo, sizeof lo);
+        memcpy(g->hi, hi, sizeof hi);
+        memcpy(g->box_a, ba, sizeof ba);
+        memcpy(g->box_b, bb, sizeof bb);
+        for (slong x = 0; x < m; x++) {
+            uf_union(J->par, E[0].e, E[x].e);
+            J->within[E[x].e] = 1;
+            set_outcome(J->sets, J->it[E[x].e / 2].set, CB_SSI_WITHIN_TOL);
+        }
+        return CB_OK;
+    }
+    char msg[200];
+    snprintf(msg, sizeof msg,
+             "stitching: %ld curve ends %s span %.3g (more than tol %.3g): not joined",
+             (long)m, why, diam, o->tol);
+    if (_cb_ssi_add_failure(J->r, o->face_a, o->face_b, pa, pb, CB_ERR_UNSUPPORTED, msg) !=
+        CB_OK)
+        return CB_ERR_NOMEM;
+    cb_ssi_failure *f = J->r->failed + J->r->n_failed - 1;
+    f->has_box = 1;
+    memcpy(f->box_a, ba, sizeof ba);
+    memcpy(f->box_b, bb, sizeof bb);
+    for (slong x = 0; x < m; x++)
+        set_outcome(J->sets, J->it[E[x].e / 2].set, CB_SSI_REFUSED);
+    return CB_OK;
+}
+
+/* The candidate group E[0..m) of one line (enclosures overlapping in a chain). Ends already in
+ * one class (the same vertex, or joined on another line) stay so; certified relations merge
+ * or separate the rest; a pair of classes left undecided is joined when one lies wholly on
+ * each side of the line (the bound-match), and anything else makes the group ambiguous. */
+static cb_status group(joiner *J, entry *E, slong m)
+{
+    slong *loc = malloc((size_t)m * sizeof(slong));
+    signed char *rel = malloc((size_t)m * (size_t)m);
+    if (!loc || !rel) {
+        free(loc);
+        free(rel);
+        return CB_ERR_NOMEM;
+    }
+    int ncls = 0;
+    for (slong x = 0; x < m; x++) {
+        slong cx = uf_find(J->par, E[x].e);
+        loc[x] = x;
+        for (slong y = 0; y < x; y++)
+            if (uf_find(J->par, E[y].e) == cx) {
+                loc[x] = loc[y];
+                break;
+            }
+        ncls += loc[x] == x;
+    }
+    cb_status st = CB_OK;
+    if (ncls > 1) {
+        for (slong x = 0; x < m; x++)
+            J->decided[E[x].e] = 1;
+        /* Pairwise relations: 1 the same point, 0 different, -1 undecided. */
+        for (slong x = 0; x < m; x++) {
+            rel[x * m + x] = 1;
+            for (slong y = x + 1; y < m; y++) {
+                signed char v = loc[x] == loc[y] ? 1 : (signed char)entry_rel(J, E + x, E + y);
+                rel[x * m + y] = rel[y * m + x] = v;
+            }
+        }
+        /* Classes merged by "the same point" (transitively). */
+        for (int changed = 1; changed;) {
+            changed = 0;
+            for (slong x = 0; x < m; x++)
+                for (slong y = 0; y < m; y++)
+                    if (rel[x * m + y] == 1 && loc[x] != loc[y]) {
+                        slong lo = FLINT_MIN(loc[x], loc[y]), hi = FLINT_MAX(loc[x], loc[y]);
+                        for (slong z = 0; z < m; z++)
+                            if (loc[z] == hi)
+                                loc[z] = lo;
+                        changed = 1;
+                    }
+        }
+        /* Two ends of one class certified different: contradiction. Per pair of classes
+         * (indexed by their first entry): different when some pair of their ends is, else
+         * undecided; the side of the line each class lies on (0 none yet, 2 mixed). */
+        int conflict = 0, ok = 1;
+        slong *mate = malloc((size_t)m * sizeof(slong));
+        int *half = calloc((size_t)m, sizeof(int));
+        if (!mate || !half) {
+            free(mate);
+            free(half);
+            free(loc);
+            free(rel);
+            return CB_ERR_NOMEM;
+        }
+        for (slong x = 0; x < m; x++) {
+            mate[x] = -1;
+            int *h = half + loc[x];
+            *h = *h == 0 ? E[x].l->half : (*h == E[x].l->half ? *h : 2);
+        }
+        /* rel between classes: reuse rel's rows at the representatives (0 once any pair is). */
+        for (slong x = 0; x < m; x++)
+            for (slong y = 0; y < m; y++) {
+                if (loc[x] == loc[y]) {
+                    conflict |= rel[x * m + y] == 0;
+                    continue;
+                }
+                if (rel[x * m + y] == 0) {
+                    rel[loc[x] * m + loc[y]] = 0;
+                    rel[loc[y] * m + loc[x]] = 0;
+                }
+            }
+        for (slong a = 0; a < m && !conflict && ok; a++) {
+            if (loc[a] != a)
+                continue;
+            for (slong b = a + 1; b < m && ok; b++) {
+                if (loc[b] != b || rel[a * m + b] == 0)
+                    continue;
+                /* Undecided: the bound-match needs one whole class on each side of the line,
+                 * each class undecided with no other. */
+                if (half[a] == 0 || half[a] == 2 || half[a] != -half[b] || mate[a] >= 0 ||
+                    mate[b] >= 0)
+                    ok = 0;
+                else {
+                    mate[a] = b;
+                    mate[b] = a;
+                }
+            }
+        }
+        free(half);
+        if (!conflict)
+            for (slong x = 0; x < m; x++)
+                uf_union(J->par, E[loc[x]].e, E[x].e);
+        if (!conflict && ok) {
+            for (slong a = 0; a < m; a++)
+                if (mate[a] > a)
+                    uf_union(J->par, E[a].e, E[mate[a]].e);
+        } else {
+            st = ambiguous(J, E, m, conflict ? "with contradicting identities on a patch side"
+                                             : "on a patch side within their bounds");
+        }
+        free(mate);
+    }
+    free(loc);
+    free(rel);
+    return st;
+}
+
+/* Steps 1-3 of _cb_ssi_stitch for the patch routes. */
+static cb_status join_ends(joiner *J)
+{
+    item *it = J->it;
+    slong ni = J->ni;
+    /* 0. Ends moved onto the point of one tangent region resolved within the tolerance
+     * (_cb_ssi_tiny_resolve; its region is listed already). */
+    for (slong i = 0; i < ni; i++)
+        for (int e = 0; e < (it[i].p->isolated ? 1 : 2); e++) {
+            slong rg = it[i].p->end[e].region;
+            if (rg < 0 || it[i].p->closed)
+                continue;
+            J->decided[2 * i + e] = J->within[2 * i + e] = 1;
+            set_outcome(J->sets, it[i].set, CB_SSI_WITHIN_TOL);
+            for (slong j = 0; j < i; j++)
+                for (int f = 0; f < (it[j].p->isolated ? 1 : 2); f++)
+                    if (!it[j].p->closed && it[j].p->end[f].region == rg) {
+                        uf_union(J->par, 2 * j + f, 2 * i + e);
+                        j = i; /* one union suffices: the earlier ones are joined already */
+                        break;
+                    }
+        }
+    /* 1. The same vertex of one pair's graph. */
+    for (slong i = 0; i < ni; i++)
+        for (int e = 0; e < (it[i].p->isolated ? 1 : 2); e++) {
+            slong vid = it[i].p->end[e].vid;
+            if (vid < 0 || it[i].p->closed)
+                continue;
+            for (slong j = i; j >= 0 && it[j].set == it[i].set; j--)
+                for (int f = 0; f < (it[j].p->isolated ? 1 : 2); f++)
+                    if ((j < i || f < e) && !it[j].p->closed && it[j].p->end[f].vid == vid)
+                        uf_union(J->par, 2 * j + f, 2 * i + e);
+        }
+    /* 2. Lines. */
+    slong ne = 0;
+    for (slong i = 0; i < ni; i++)
+        if (!it[i].p->closed)
+            for (int e = 0; e < (it[i].p->isolated ? 1 : 2); e++)
+                ne += it[i].p->end[e].nl;
+    entry *E = malloc((size_t)(ne + 1) * sizeof(entry));
+    if (!E)
+        return CB_ERR_NOMEM;
+    ne = 0;
+    for (slong i = 0; i < ni; i++)
+        if (!it[i].p->closed)
+            for (int e = 0; e < (it[i].p->isolated ? 1 : 2); e++)
+                for (int k = 0; k < it[i].p->end[e].nl; k++) {
+                    const _cb_ssi_end_line *l = it[i].p->end[e].ln + k;
+                    const double *sm = J->o->seam[l->sigma][l->dir];
+                    E[ne].e = 2 * i + e;
+                    E[ne].l = l;
+                    E[ne].c = l->c == sm[1] ? sm[0] : l->c;
+                    ne++;
+                }
+    qsort(E, (size_t)ne, sizeof(entry), cmp_entry);
+    cb_status st = CB_OK;
+    for (slong a = 0; a < ne && st == CB_OK;) {
+        slong b = a + 1;
+        double top = E[a].l->hi;
+        while (b < ne && E[b].l->sigma == E[a].l->sigma && E[b].l->dir == E[a].l->dir &&
+               E[b].c == E[a].c && E[b].l->lo <= top) {
+            top = fmax(top, E[b].l->hi);
+            b++;
+        }
+        if (b - a >= 2)
+            st = group(J, E + a, b - a);
+        a = b;
+    }
+    free(E);
+    /* 3. Ends alone in their class and undecided (on no line, or with no candidate on it):
+     * joined with the ends of other pairs within CB_SSI_FREE_JOIN tol, within tolerance. */
+    slong *cnt = calloc((size_t)(2 * ni + 1), sizeof(slong));
+    entry *G = malloc((size_t)(2 * ni + 1) * sizeof(entry));
+    if (!cnt || !G) {
+        free(cnt);
+        free(G);
+        return CB_ERR_NOMEM;
+    }
+    for (slong e = 0; e < 2 * ni; e++)
+        if (!it[e / 2].p->closed && !(it[e / 2].p->isolated && e % 2))
+            cnt[uf_find(J->par, e)]++;
+    for (slong e = 0; e < 2 * ni && st == CB_OK; e++) {
+        if (it[e / 2].p->closed || (it[e / 2].p->isolated && e % 2) || J->decided[e] ||
+            cnt[uf_find(J->par, e)] != 1)
+            continue;
+        slong m = 0;
+        G[m++] = (entry){e, NULL, 0};
+        for (slong f = 0; f < 2 * ni; f++) {
+            if (f == e || it[f / 2].p->closed || (it[f / 2].p->isolated && f % 2) ||
+                it[f / 2].set == it[e / 2].set ||
+                uf_find(J->par, f) == uf_find(J->par, e))
+                continue;
+            if (d3(end_xyz(it, e), end_xyz(it, f)) <= CB_SSI_FREE_JOIN * J->o->tol)
+                G[m++] = (entry){f, NULL, 0};
+        }
+        if (m < 2)
+            continue;
+        st = ambiguous(J, G, m, "on no common patch side");
+        for (slong x = 0; x < m; x++)
+            J->decided[G[x].e] = 1;
+    }
+    free(cnt);
+    free(G);
+    return st;
+}
+
+/* 1 when every point of piece p lies on the side of sigma's patch (domain box dom) in
+ * direction dir at value c (within CB_SSI_ON_SIDE_EPS of the box). */
+static int along(const _cb_ssi_piece *p, int sigma, int dir, double c, const double dom[4])
+{
+    double w = dom[2 * dir + 1] - dom[2 * dir];
+    if (!(w > 0))
+        return 0;
+    for (slong k = 0; k < p->n; k++) {
+        double x = sigma ? p->pt[k].st[dir] : p->pt[k].uv[dir];
+        if (!(fabs(x - c) <= CB_SSI_ON_SIDE_EPS * w))
+            return 0;
+    }
+    return 1;
+}
+
+/* Whether pieces a (set sa) and b (set sb) both run along one side of a patch of the same
+ * surface. */
+static int along_same_side(const _cb_ssi_stitch_set *sa, const _cb_ssi_piece *a,
+                           const _cb_ssi_stitch_set *sb, const _cb_ssi_piece *b)
+{
+    for (int sigma = 0; sigma < 2; sigma++) {
+        const double *da = sigma ? sa->qdom : sa->pdom, *db = sigma ? sb->qdom : sb->pdom;
+        for (int dir = 0; dir < 2; dir++)
+            for (int end = 0; end < 2; end++) {
+                double c = da[2 * dir + end];
+                if (!isfinite(c))
+                    continue;
+                if (!along(a, sigma, dir, c, da))
+                    continue;
+                for (int eb = 0; eb < 2; eb++)
+                    if (db[2 * dir + eb] == c && along(b, sigma, dir, c, db))
+                        return 1;
+            }
+    }
+    return 0;
+}
+
+cb_status _cb_ssi_stitch(cb_ssi_result_t r, _cb_ssi_stitch_set *sets, slong nsets,
+                         const _cb_ssi_stitch_opts *o)
+{
+    slong ni = 0;
+    for (slong s = 0; s < nsets; s++) {
+        ni += sets[s].ps->n;
+        sets[s].outcome = CB_SSI_CERTIFIED;
+    }
     item *it = calloc((size_t)ni + 1, sizeof(item));
     node *nodes = malloc((size_t)(2 * ni + 1) * sizeof(node));
-    if (!it || !nodes) {
+    slong *par = malloc((size_t)(2 * ni + 1) * sizeof(slong));
+    slong *nid = malloc((size_t)(2 * ni + 1) * sizeof(slong));
+    char *decided = calloc((size_t)(2 * ni + 1), 1), *within = calloc((size_t)(2 * ni + 1), 1);
+    if (!it || !nodes || !par || !nid || !decided || !within) {
         free(it);
         free(nodes);
+        free(par);
+        free(nid);
+        free(decided);
+        free(within);
         return CB_ERR_NOMEM;
     }
     cb_status st = CB_OK;
     slong m = 0;
     for (slong s = 0; s < nsets; s++)
-        for (slong k = 0; k < sets[s].n; k++) {
-            it[m].p = sets[s].p + k;
+        for (slong k = 0; k < sets[s].ps->n; k++) {
+            it[m].p = sets[s].ps->p + k;
+            it[m].set = s;
             it[m].node[0] = it[m].node[1] = -1;
             m++;
         }
-    /* Nodes: end points of open pieces, clustered in piece order. */
-    for (slong i = 0; i < ni; i++) {
+    for (slong e = 0; e < 2 * ni; e++)
+        par[e] = e;
+    double jtol = CB_SSI_CLOSED_FORM_JOIN * o->tol;
+    if (o->closed_form) {
+        /* The closed forms' rule: ends within jtol are one node (in piece order). */
+        for (slong e = 0; e < 2 * ni; e++) {
+            const _cb_ssi_piece *p = it[e / 2].p;
+            if (p->isolated || p->closed)
+                continue;
+            for (slong f = 0; f < e; f++) {
+                const _cb_ssi_piece *q = it[f / 2].p;
+                if (q->isolated || q->closed || uf_find(par, f) != f)
+                    continue;
+                if (d3(end_xyz(it, f), end_xyz(it, e)) <= jtol) {
+                    uf_union(par, f, e);
+                    break;
+                }
+            }
+        }
+    } else {
+        joiner J = {it, ni, par, decided, within, sets, o, r};
+        st = join_ends(&J);
+    }
+    /* Patch routes: a piece whose points all stay within CB_SSI_DEGENERATE_PIECE tol of its
+     * first one (a curve through a corner of the patch grid, seen by the pairs beside it as a
+     * piece of round-off length) is dropped and its ends made one node, within tolerance. */
+    /* Per class: the set of its first end, or -2 when it holds ends of several sets. */
+    slong *cset = NULL;
+    if (!o->closed_form) {
+        cset = malloc((size_t)(2 * ni + 1) * sizeof(slong));
+        if (!cset)
+            st = CB_ERR_NOMEM;
+        for (slong e = 0; e < 2 * ni && cset; e++)
+            cset[e] = -1;
+        for (slong e = 0; e < 2 * ni && cset; e++) {
+            const _cb_ssi_piece *p = it[e / 2].p;
+            if (p->closed || (p->isolated && e % 2))
+                continue;
+            slong rt = uf_find(par, e);
+            cset[rt] = cset[rt] == -1 || cset[rt] == it[e / 2].set ? it[e / 2].set : -2;
+        }
+    }
+    for (slong i = 0; i < ni && st == CB_OK && !o->closed_form; i++) {
         const _cb_ssi_piece *p = it[i].p;
         if (p->isolated || p->closed)
             continue;
-        for (int e = 0; e < 2; e++) {
-            slong idx = e ? p->n - 1 : 0;
-            const double *X = p->xyz + 3 * idx;
-            slong f = -1;
-            for (slong q = 0; q < nn && f < 0; q++)
-                if (d3(nodes[q].X, X) <= merge_tol)
-                    f = q;
-            if (f < 0) {
-                f = nn++;
-                memcpy(nodes[f].X, X, 3 * sizeof(double));
-                nodes[f].pq = p->pt[idx];
-                nodes[f].deg = 0;
-            }
-            it[i].node[e] = f;
+        int moves = 0, zero = 1;
+        for (slong k = 1; k < p->n && !moves; k++) {
+            moves = d3(p->xyz + 3 * k, p->xyz) > CB_SSI_DEGENERATE_PIECE * o->tol;
+            zero &= !memcmp(p->xyz + 3 * k, p->xyz, 3 * sizeof(double));
         }
-        /* A piece that never leaves its start node (a touch at a patch side) adds nothing. */
+        if (moves)
+            continue;
+        it[i].dropped = 1;
+        /* A piece of no extent at all, one end a vertex of its graph whose class is already
+         * joined to another pair's ends: the curve runs on through that vertex without it (a
+         * curve through a corner of the patch grid, seen by the pair beside it as a single
+         * point); dropped, its other end left out, nothing merged. */
+        int redundant = 0;
+        for (int e = 0; e < 2 && zero; e++)
+            redundant |= p->end[e].vid >= 0 && cset[uf_find(par, 2 * i + e)] == -2;
+        if (redundant)
+            continue;
+        double lo[3], hi[3], ba[4], bb[4], diam = 0;
+        for (int k = 0; k < 3; k++) {
+            lo[k] = HUGE_VAL;
+            hi[k] = -HUGE_VAL;
+        }
+        for (int k = 0; k < 4; k++)
+            ba[k] = bb[k] = (k % 2) ? -HUGE_VAL : HUGE_VAL;
+        for (slong k = 0; k < p->n; k++) {
+            cb_ssi_point pt;
+            out_point(&pt, p->xyz + 3 * k, p->pt + k, o->swapped);
+            for (int q = 0; q < 3; q++) {
+                lo[q] = fmin(lo[q], pt.xyz[q]);
+                hi[q] = fmax(hi[q], pt.xyz[q]);
+            }
+            for (int q = 0; q < 2; q++) {
+                ba[2 * q] = fmin(ba[2 * q], pt.uv_a[q]);
+                ba[2 * q + 1] = fmax(ba[2 * q + 1], pt.uv_a[q]);
+                bb[2 * q] = fmin(bb[2 * q], pt.uv_b[q]);
+                bb[2 * q + 1] = fmax(bb[2 * q + 1], pt.uv_b[q]);
+            }
+        }
+        for (int q = 0; q < 3; q++)
+            diam += (hi[q] - lo[q]) * (hi[q] - lo[q]);
+        const _cb_ssi_stitch_set *S = sets + it[i].set;
+        cb_ssi_region *g = _cb_ssi_add_region(r, CB_SSI_REGION_NEAR_NODE, o->face_a, o->face_b,
+                                              S->patch_a, S->patch_b, sqrt(diam));
+        if (!g) {
+            st = CB_ERR_NOMEM;
+            break;
+        }
+        memcpy(g->lo, lo, sizeof lo);
+        memcpy(g->hi, hi, sizeof hi);
+        memcpy(g->box_a, ba, sizeof ba);
+        memcpy(g->box_b, bb, sizeof bb);
+        uf_union(par, 2 * i, 2 * i + 1);
+        within[2 * i] = within[2 * i + 1] = 1;
+        set_outcome(sets, it[i].set, CB_SSI_WITHIN_TOL);
+    }
+    free(cset);
+    /* Nodes: classes of open pieces' ends, numbered in order of their first end. */
+    slong nn = 0;
+    for (slong e = 0; e < 2 * ni; e++)
+        nid[e] = -1;
+    for (slong e = 0; e < 2 * ni && st == CB_OK; e++) {
+        const _cb_ssi_piece *p = it[e / 2].p;
+        if (p->isolated || p->closed)
+            continue;
+        slong rt = uf_find(par, e);
+        if (nid[rt] < 0) {
+            nid[rt] = nn;
+            memcpy(nodes[nn].X, end_xyz(it, rt), 3 * sizeof(double));
+            nodes[nn].pq = *end_pq(it, rt);
+            nodes[nn].deg = 0;
+            nodes[nn].within = 0;
+            nn++;
+        }
+        it[e / 2].node[e % 2] = nid[rt];
+        nodes[nid[rt]].within |= within[e];
+    }
+    /* A piece that never leaves its node (a touch at a patch side) adds nothing. */
+    double dtol = (o->closed_form ? jtol : CB_SSI_DEGENERATE_PIECE * o->tol);
+    for (slong i = 0; i < ni && st == CB_OK; i++) {
+        const _cb_ssi_piece *p = it[i].p;
+        if (p->isolated || p->closed || it[i].node[0] != it[i].node[1])
+            continue;
         int moves = 0;
         for (slong k = 0; k < p->n && !moves; k++)
-            moves = d3(p->xyz + 3 * k, nodes[it[i].node[0]].X) > merge_tol;
-        if (!moves && it[i].node[0] == it[i].node[1])
+            moves = d3(p->xyz + 3 * k, nodes[it[i].node[0]].X) > dtol;
+        if (!moves)
             it[i].dropped = 1;
     }
     /* Duplicates: a curve on a patch side shared by two pairs is found by both. */
-    for (slong i = 0; i < ni; i++) {
+    for (slong i = 0; i < ni && st == CB_OK; i++) {
         if (it[i].dropped || it[i].p->isolated || it[i].p->closed)
             continue;
         const _cb_ssi_piece *p = it[i].p;
@@ -265,7 +952,11 @@ cb_status _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong
                 continue;
             int same = (it[j].node[0] == it[i].node[0] && it[j].node[1] == it[i].node[1]) ||
                        (it[j].node[0] == it[i].node[1] && it[j].node[1] == it[i].node[0]);
-            if (same && polyline_dist(mid, it[j].p->xyz, it[j].p->n) <= chord + merge_tol) {
+            if (!same)
+                continue;
+            if (o->closed_form ? polyline_dist(mid, it[j].p->xyz, it[j].p->n) <= o->chord + jtol
+                               : along_same_side(sets + it[j].set, it[j].p, sets + it[i].set,
+                                                 p)) {
                 it[i].dropped = 1;
                 break;
             }
@@ -281,16 +972,14 @@ cb_status _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong
         if (it[i].dropped || it[i].used || it[i].p->isolated)
             continue;
         slong alloc = 0;
-        cb_ssi_curve *c = add_curve(r);
+        cb_ssi_curve *c = _cb_ssi_add_curve(r, o->face_a, o->face_b);
         if (!c) {
             st = CB_ERR_NOMEM;
             break;
         }
-        c->face_a = face_a;
-        c->face_b = face_b;
         if (it[i].p->closed) {
             it[i].used = 1;
-            st = append_piece(c, &alloc, it + i, 0, nodes, swapped);
+            st = append_piece(c, &alloc, it + i, 0, nodes, o->swapped);
             c->closed = 1;
             c->tangential = it[i].p->tangential;
             continue;
@@ -326,7 +1015,10 @@ cb_status _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong
         for (;;) {
             it[cur].used = 1;
             c->tangential &= it[cur].p->tangential != 0;
-            st = append_piece(c, &alloc, it + cur, rev, nodes, swapped);
+            /* A join resolved within tolerance at either end of the piece. */
+            if (nodes[it[cur].node[0]].within || nodes[it[cur].node[1]].within)
+                c->certified = 0;
+            st = append_piece(c, &alloc, it + cur, rev, nodes, o->swapped);
             if (st != CB_OK)
                 break;
             slong nd = it[cur].node[rev ? 0 : 1];
@@ -355,36 +1047,47 @@ cb_status _cb_ssi_stitch(cb_ssi_result_t r, const _cb_ssi_piece_set *sets, slong
             rev = nrev;
         }
     }
-    /* Isolated points not at a node or at an earlier point. */
+    /* Isolated points not at a node or at an earlier point: closed forms by distance, the
+     * patch routes by the joins above. */
     slong p0 = r->n_points;
     for (slong i = 0; i < ni && st == CB_OK; i++) {
         const _cb_ssi_piece *p = it[i].p;
         if (!p->isolated)
             continue;
-        int dup = 0;
-        for (slong q = 0; q < nn && !dup; q++)
-            dup = nodes[q].deg > 0 && d3(nodes[q].X, p->xyz) <= merge_tol;
-        for (slong q = p0; q < r->n_points && !dup; q++)
-            dup = d3(r->point[q].p.xyz, p->xyz) <= merge_tol;
+        int dup = 0, w = 0;
+        if (o->closed_form) {
+            for (slong q = 0; q < nn && !dup; q++)
+                dup = nodes[q].deg > 0 && d3(nodes[q].X, p->xyz) <= jtol;
+            for (slong q = p0; q < r->n_points && !dup; q++)
+                dup = d3(r->point[q].p.xyz, p->xyz) <= jtol;
+        } else {
+            slong rt = uf_find(par, 2 * i);
+            for (slong e = 0; e < 2 * ni && !dup; e++) {
+                if (e == 2 * i || uf_find(par, e) != rt)
+                    continue;
+                const _cb_ssi_piece *q = it[e / 2].p;
+                if (q->closed || (q->isolated && e % 2))
+                    continue;
+                /* At a node of a kept piece, or at an earlier isolated point. */
+                dup = q->isolated ? e < 2 * i : !it[e / 2].dropped;
+            }
+            w = within[2 * i];
+        }
         if (dup)
             continue;
-        if (r->n_points == r->alloc_points) {
-            slong alloc = r->alloc_points ? 2 * r->alloc_points : 8;
-            cb_ssi_isolated *q = realloc(r->point, (size_t)alloc * sizeof(*q));
-            if (!q) {
-                st = CB_ERR_NOMEM;
-                break;
-            }
-            r->point = q;
-            r->alloc_points = alloc;
+        cb_ssi_isolated *pt = _cb_ssi_add_point(r, o->face_a, o->face_b);
+        if (!pt) {
+            st = CB_ERR_NOMEM;
+            break;
         }
-        cb_ssi_isolated *o = r->point + r->n_points++;
-        out_point(&o->p, p->xyz, p->pt, swapped);
-        o->tangential = 1;
-        o->face_a = face_a;
-        o->face_b = face_b;
+        out_point(&pt->p, p->xyz, p->pt, o->swapped);
+        pt->certified = !w;
     }
     free(it);
     free(nodes);
+    free(par);
+    free(nid);
+    free(decided);
+    free(within);
     return st;
 }

@@ -520,6 +520,9 @@ cb_status _cb_ssi_trace(_cb_ssi_trace_set *out, const cb_ctopo_t T, const _cb_ss
                 break;
             }
             c->tangential = 1;
+            c->v[0] = c->v[1] = -1;
+            if (pass == 0)
+                c->v[0] = v;
             const cb_ctopo_vertex_struct *vs = T->vertex + v;
             st = curve_push(c, vs->s, vs->t, vertex_fixed(vs));
             slong e = e0;
@@ -528,14 +531,19 @@ cb_status _cb_ssi_trace(_cb_ssi_trace_set *out, const cb_ctopo_t T, const _cb_ss
                 c->tangential &= T->edge[e].tangential != 0;
                 st = trace_edge(c, T, e, rev, h, lift, lift_ctx, chord, max_seg, work, roots);
                 v = rev ? T->edge[e].v0 : T->edge[e].v1;
-                if (!PASS(v))
+                if (!PASS(v)) {
+                    if (pass == 0)
+                        c->v[1] = v;
                     break;
+                }
                 slong nxt = -1;
                 for (slong k = start[v]; k < start[v + 1]; k++)
                     if (!used[inc[k]])
                         nxt = inc[k];
                 if (nxt < 0) {
                     c->closed = pass == 1;
+                    if (pass == 0)
+                        c->v[1] = v;
                     break;
                 }
                 e = nxt;
@@ -554,6 +562,7 @@ cb_status _cb_ssi_trace(_cb_ssi_trace_set *out, const cb_ctopo_t T, const _cb_ss
         }
         c->isolated = 1;
         c->tangential = 1;
+        c->v[0] = c->v[1] = v;
         st = curve_push(c, T->vertex[v].s, T->vertex[v].t, vertex_fixed(T->vertex + v));
     }
     free(deg);

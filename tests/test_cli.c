@@ -450,7 +450,7 @@ static void test_ssi_flags(void)
              b);
     cli_expect(args, 0, "valid");
     snprintf(args, sizeof args, "ssi %s %s --threads 2", a, b);
-    cli_expect(args, 0, "not certified 0\nsubdivision      ");
+    cli_expect(args, 0, "refused 0\nsubdivision      ");
     double pairs = number_after("subdivision      ");
     const char *sub = strstr(cli_out, "subdivision      ");
     const char *ex = sub ? strstr(sub, " patch pairs, ") : NULL;
@@ -468,7 +468,10 @@ static void test_ssi_flags(void)
     int code = cli_run(args);
     CHECK(code == 0 && cli_out[0] == '\0', "%s: exit %d, output:\n%s", args, code, cli_out);
     char *text = slurp(json);
-    CHECK(text && strstr(text, "\"branches\": [") && strstr(text, "\"not_certified\": []"),
+    CHECK(text && strstr(text, "\"branches\": [") && strstr(text, "\"not_certified\": []") &&
+              strstr(text, "\"certified\": true") &&
+              strstr(text, "\"pairs\": {\"certified\": ") &&
+              strstr(text, "\"within_tolerance\": [") && strstr(text, "\"coincident\": ["),
           "%s: JSON %s", args, text ? text : "missing");
     free(text);
     remove(json);

@@ -86,7 +86,9 @@ static void test_birds(void)
                               "\"area\": ", "\"solids\": ", "\"faces\": ", "\"valid\": true",
                               "\"mesh\": {\"triangles\": ", "\"closed\": ", "\"manifold\": ",
                               "\"self_intersections\": ", "\"time_s\": {\"ssi\": ", "\"split\": ",
-                              "\"classify\": ", "\"total\": ", NULL};
+                              "\"classify\": ", "\"total\": ",
+                              "\"ssi\": {\"pairs\": {\"certified\": ", "\"within_tolerance\": ",
+                              "\"refused\": 0}", "\"within_tolerance_regions\": ", NULL};
         for (int j = 0; keys[j]; j++)
             CHECK(strstr(text, keys[j]) != NULL, "%s report lacks %s:\n%s", ops[k], keys[j], text);
         CHECK(strstr(text, ops[k]) != NULL, "report names no %s", ops[k]);
@@ -211,6 +213,14 @@ static void test_unsupported(void)
     snprintf(args, sizeof args, "bool intersection %s %s -o %s --json %s", a, b,
              at(out, sizeof out, "c.stl"), at(rep, sizeof rep, "c.json"));
     cli_expect(args, 0, "volume 7.5288");
+    /* The summary says how many pairs were certified and resolved within tolerance, and the
+     * report has the counts (nothing refused). */
+    CHECK(strstr(cli_out, "resolved within tolerance") != NULL, "no outcome summary:\n%s",
+          cli_out);
+    text = slurp(rep);
+    CHECK(text && json_number(text, "within_tolerance") >= 0 &&
+              strstr(text, "\"refused\": 0}") != NULL,
+          "two crosses report: %s", text ? text : "(none)");
 }
 
 /* Operands that only touch (the cross's arm lying on the yoke's base along a line): the

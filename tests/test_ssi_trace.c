@@ -111,6 +111,16 @@ static cb_status run(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_ssi_su
            (long)r->pairs_certified, (long)r->n_failed, max_dist(r, A, B), r->tol);
     CHECK(max_dist(r, A, B) <= r->tol, "%s: max distance %g > tol %g", name, max_dist(r, A, B),
           r->tol);
+    /* Outcomes: every curve, point and pair certified; nothing within tolerance. */
+    int uncertified = 0;
+    for (slong c = 0; c < r->n_curves; c++)
+        uncertified += !r->curve[c].certified;
+    for (slong q = 0; q < r->n_points; q++)
+        uncertified += !r->point[q].certified;
+    CHECK(uncertified == 0 && r->pairs_within_tolerance == 0 && r->n_regions == 0 &&
+              r->pairs_certified + r->pairs_culled == r->pairs_total,
+          "%s: %d curves or points not certified, %ld pairs within tolerance, %ld regions", name,
+          uncertified, (long)r->pairs_within_tolerance, (long)r->n_regions);
     return st;
 }
 
