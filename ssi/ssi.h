@@ -626,6 +626,14 @@ cb_status _cb_ssi_add_marks(cb_ssi_result_t r, const cb_ssi_mark *m, slong n);
  * everything once). */
 cb_status _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s);
 
+/* Inserts, into curves c0 .. of r that are not tangential, points of the curve (on both
+ * surfaces within tol / 16) between consecutive points whose chord's midpoint lies farther
+ * than chord from it, until none does: the tracer bounds the sagitta within each patch pair,
+ * but pieces joined across pairs, moved onto nodes or clipped may leave longer chords. -1
+ * when out of memory (r unchanged but for curves already done). */
+int _cb_ssi_result_densify(cb_ssi_result_t r, slong c0, const cb_ssi_surface *A,
+                           const cb_ssi_surface *B, double chord, double tol);
+
 /* Distances of an output point to both surfaces at its own parameters (an upper bound on its
  * distance to each), recorded in r->max_dist_a, max_dist_b. */
 void _cb_ssi_result_measure(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_ssi_surface *B,

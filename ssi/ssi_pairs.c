@@ -1266,6 +1266,8 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                     r->pairs_within_tolerance++;
             }
         free(sets);
+        if (st == CB_OK && _cb_ssi_result_densify(r, c0, A, B, chord, tol))
+            st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory refining curves");
         for (slong c = c0; c < r->n_curves; c++)
             for (slong i = 0; i < r->curve[c].n; i++)
                 _cb_ssi_result_measure(r, A, B, r->curve[c].pt + i);

@@ -248,3 +248,208 @@ void _cb_ssi_result_measure(cb_ssi_result_t r, const cb_ssi_surface *A, const cb
     r->max_dist_a = fmax(r->max_dist_a, surface_dist(A, p->uv_a, p->xyz));
     r->max_dist_b = fmax(r->max_dist_b, surface_dist(B, p->uv_b, p->xyz));
 }
+
+/* ---------------------------------------------------------------- densification ---------- */
+
+static void surface_derivs(double d[6][3], const cb_ssi_surface *S, double u, double v)
+{
+    if (S->kind == CB_SSI_ANALYTIC)
+        cb_analytic_eval_derivs(d, &S->analytic, u, v);
+    else
+        cb_nurbs_surface_eval_derivs(d, S->nurbs, u, v);
+}
+
+/* Period of parameter k of S (0 when not periodic): the angle of every analytic surface but
+ * the plane, and the torus' second angle. */
+static double surface_period(const cb_ssi_surface *S, int k)
+{
+    if (S->kind != CB_SSI_ANALYTIC || S->analytic.kind == CB_ANALYTIC_PLANE)
+        return 0;
+    return k == 0 || S->analytic.kind == CB_ANALYTIC_TORUS ? 2 * CB_SSI_PI : 0;
+}
+
+/* The point of the curve between a and b: their parameters' midpoint (b's periodic ones taken
+ * nearest a's), moved onto both surfaces and onto the plane through the chord's midpoint normal
+ * to it by Newton's method. 1 with m filled when it converged to within tol / 16 of both
+ * surfaces and of the plane, no farther from the chord's midpoint than half the chord (the
+ * same branch). */
+static int curve_midpoint(cb_ssi_point *m, const cb_ssi_point *a, const cb_ssi_point *b,
+                          const cb_ssi_surface *A, const cb_ssi_surface *B, double tol)
+{
+    double M[3], n[3], len = 0;
+    for (int k = 0; k < 3; k++) {
+        M[k] = 0.5 * (a->xyz[k] + b->xyz[k]);
+        n[k] = b->xyz[k] - a->xyz[k];
+        len += n[k] * n[k];
+    }
+    len = sqrt(len);
+    if (!(len > 0))
+        return 0;
+    for (int k = 0; k < 3; k++)
+        n[k] /= len;
+    double x[4];
+    const double *pa[2] = {a->uv_a, a->uv_b}, *pb[2] = {b->uv_a, b->uv_b};
+    const cb_ssi_surface *S[2] = {A, B};
+    for (int s = 0; s < 2; s++)
+        for (int k = 0; k < 2; k++) {
+            double P = surface_period(S[s], k), vb = pb[s][k];
+            if (P > 0)
+                vb += P * nearbyint((pa[s][k] - vb) / P);
+            x[2 * s + k] = 0.5 * (pa[s][k] + vb);
+        }
+    double X[3] = {0, 0, 0}, res = HUGE_VAL;
+    for (int it = 0; it < 12; it++) {
+        double da[6][3], db[6][3];
+        surface_derivs(da, A, x[0], x[1]);
+        surface_derivs(db, B, x[2], x[3]);
+        double F[4], J[4][5];
+        for (int k = 0; k < 3; k++) {
+            F[k] = da[0][k] - db[0][k];
+            X[k] = 0.5 * (da[0][k] + db[0][k]);
+        }
+        F[3] = n[0] * (X[0] - M[0]) + n[1] * (X[1] - M[1]) + n[2] * (X[2] - M[2]);
+        res = fmax(sqrt(F[0] * F[0] + F[1] * F[1] + F[2] * F[2]), fabs(F[3]));
+        if (res <= 1e-3 * tol)
+            break;
+        for (int k = 0; k < 3; k++) {
+            J[k][0] = da[1][k];
+            J[k][1] = da[2][k];
+            J[k][2] = -db[1][k];
+            J[k][3] = -db[2][k];
+            J[k][4] = -F[k];
+        }
+        for (int c = 0; c < 2; c++) {
+            J[3][c] = 0.5 * (n[0] * da[1 + c][0] + n[1] * da[1 + c][1] + n[2] * da[1 + c][2]);
+            J[3][2 + c] = 0.5 * (n[0] * db[1 + c][0] + n[1] * db[1 + c][1] + n[2] * db[1 + c][2]);
+        }
+        J[3][4] = -F[3];
+        /* Gaussian elimination with partial pivoting; a (nearly) singular system (the
+         * surfaces tangent along the curve) gives no point. */
+        double scale = 0;
+        for (int r = 0; r < 4; r++)
+            for (int c = 0; c < 4; c++)
+                scale = fmax(scale, fabs(J[r][c]));
+        for (int c = 0; c < 4; c++) {
+            int piv = c;
+            for (int r = c + 1; r < 4; r++)
+                if (fabs(J[r][c]) > fabs(J[piv][c]))
+                    piv = r;
+            if (!(fabs(J[piv][c]) > 1e-10 * scale))
+                return 0;
+            if (piv != c)
+                for (int q = 0; q < 5; q++) {
+                    double w = J[c][q];
+                    J[c][q] = J[piv][q];
+                    J[piv][q] = w;
+                }
+            for (int r = c + 1; r < 4; r++) {
+                double f = J[r][c] / J[c][c];
+                for (int q = c; q < 5; q++)
+                    J[r][q] -= f * J[c][q];
+            }
+        }
+        double dx[4];
+        for (int c = 3; c >= 0; c--) {
+            double acc = J[c][4];
+            for (int q = c + 1; q < 4; q++)
+                acc -= J[c][q] * dx[q];
+            dx[c] = acc / J[c][c];
+        }
+        for (int c = 0; c < 4; c++)
+            x[c] += dx[c];
+        if (!isfinite(x[0] + x[1] + x[2] + x[3]))
+            return 0;
+        /* B-spline parameters stay in their domains. */
+        for (int s = 0; s < 2; s++)
+            if (S[s]->kind == CB_SSI_NURBS) {
+                const cb_nurbs_surface_struct *N = S[s]->nurbs;
+                double lo[2] = {N->knots_u[N->deg_u], N->knots_v[N->deg_v]};
+                double hi[2] = {N->knots_u[N->n_u], N->knots_v[N->n_v]};
+                for (int k = 0; k < 2; k++)
+                    x[2 * s + k] = fmin(fmax(x[2 * s + k], lo[k]), hi[k]);
+            }
+    }
+    if (!(res <= tol / 16))
+        return 0;
+    double off = sqrt((X[0] - M[0]) * (X[0] - M[0]) + (X[1] - M[1]) * (X[1] - M[1]) +
+                      (X[2] - M[2]) * (X[2] - M[2]));
+    if (!(off <= 0.5 * len))
+        return 0;
+    memcpy(m->xyz, X, sizeof X);
+    m->uv_a[0] = x[0];
+    m->uv_a[1] = x[1];
+    m->uv_b[0] = x[2];
+    m->uv_b[1] = x[3];
+    return 1;
+}
+
+/* Appends to *out (capacity *cap) the points strictly between a and b that bring every chord's
+ * midpoint within chord of the curve (depth <= 16); -1 when out of memory. */
+static int densify(cb_ssi_point **out, slong *n, slong *cap, const cb_ssi_point *a,
+                   const cb_ssi_point *b, const cb_ssi_surface *A, const cb_ssi_surface *B,
+                   double chord, double tol, int depth)
+{
+    cb_ssi_point m;
+    if (depth >= 16 || !curve_midpoint(&m, a, b, A, B, tol))
+        return 0;
+    double sag = 0;
+    for (int k = 0; k < 3; k++)
+        sag += (m.xyz[k] - 0.5 * (a->xyz[k] + b->xyz[k])) * (m.xyz[k] - 0.5 * (a->xyz[k] + b->xyz[k]));
+    if (!(sqrt(sag) > chord))
+        return 0;
+    if (densify(out, n, cap, a, &m, A, B, chord, tol, depth + 1))
+        return -1;
+    if (*n == *cap) {
+        slong c = 2 * *cap;
+        cb_ssi_point *q = realloc(*out, (size_t)c * sizeof *q);
+        if (!q)
+            return -1;
+        *out = q;
+        *cap = c;
+    }
+    (*out)[(*n)++] = m;
+    return densify(out, n, cap, &m, b, A, B, chord, tol, depth + 1);
+}
+
+int _cb_ssi_result_densify(cb_ssi_result_t r, slong c0, const cb_ssi_surface *A,
+                           const cb_ssi_surface *B, double chord, double tol)
+{
+    for (slong c = c0; c < r->n_curves; c++) {
+        cb_ssi_curve *cv = r->curve + c;
+        if (cv->tangential || cv->n < 2)
+            continue;
+        slong n = 0, cap = 2 * cv->n;
+        cb_ssi_point *out = malloc((size_t)cap * sizeof *out);
+        if (!out)
+            return -1;
+        int added = 0;
+        for (slong i = 0; i < cv->n; i++) {
+            if (i > 0) {
+                slong before = n;
+                if (densify(&out, &n, &cap, cv->pt + i - 1, cv->pt + i, A, B, chord, tol, 0)) {
+                    free(out);
+                    return -1;
+                }
+                added |= n > before;
+            }
+            if (n == cap) {
+                cb_ssi_point *q = realloc(out, (size_t)(2 * cap) * sizeof *q);
+                if (!q) {
+                    free(out);
+                    return -1;
+                }
+                out = q;
+                cap *= 2;
+            }
+            out[n++] = cv->pt[i];
+        }
+        if (added) {
+            free(cv->pt);
+            cv->pt = out;
+            cv->n = n;
+        } else {
+            free(out);
+        }
+    }
+    return 0;
+}
