@@ -81,6 +81,27 @@ void cb_cli_result_check(cb_cli_result *r, cb_topo_body *res, cb_mesh_t mesh,
     }
     /* A mesh that is open, or meets itself where the result does not only touch itself, is
      * no picture of a solid. */
+    /* The B-rep's volume against its mesh's: the mesh lies within the chordal tolerance of the
+     * faces, so the two differ by at most about that times the area. A larger difference
+     * (a face integrated over the wrong side of its loops: the volume's sign turned) makes
+     * the result invalid, not a number to trust. Twice the bound: the tolerance is met at
+     * the triangles' sample points. The mesh's volume is its triangles' signed sum (CGAL's
+     * is not defined for a closed mesh that touches itself, as a union of touching solids
+     * does). */
+    cb_tess_opts to, tr;
+    cb_tess_opts_init(&to);
+    if (r->valid && r->mesh_done && r->closed && isfinite(r->volume) &&
+        cb_tess_opts_resolve(&tr, &to, res, &err) == CB_OK) {
+        double mv = cb_mesh_volume(mesh), area = fmax(fabs(r->area), cb_mesh_area(mesh));
+        double bound = 2 * tr.chord_tol * area + 1e-9 * fabs(mv);
+        if (!(fabs(r->volume - mv) <= bound)) {
+            r->valid = 0;
+            snprintf(r->message, sizeof r->message,
+                     "volume: the B-rep's volume %.10g and its mesh's %.10g differ by more "
+                     "than the mesh's chordal error allows (%.3g)",
+                     r->volume, mv, bound);
+        }
+    }
     r->mesh_ok = r->mesh_done && r->closed &&
                  ((r->manifold && r->self_intersections == 0) || r->touching);
     if (r->valid && !r->mesh_ok) {

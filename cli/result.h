@@ -25,7 +25,8 @@ typedef struct {
 
 /* Validates res at its tolerance, integrates its volume and area (CB_MASS_REL_TOL), tessellates
  * it into mesh (replacing its contents; default tolerances) and checks the mesh (closed,
- * manifold, self-intersections, volume); the first failure is r->message. The empty body (no
+ * manifold, self-intersections, volume, and the B-rep's volume within twice the chordal
+ * tolerance times the area of the mesh's); the first failure is r->message. The empty body (no
  * face) is valid with volume 0 and an empty mesh that passes every check. A valid result
  * whose closed mesh meets itself (vertices where triangles form several fans, or CGAL's
  * self-intersections) with every pair of triangles that meet touching, none crossing

@@ -109,6 +109,19 @@ static void edge_range(cb_topo_edge *e, const cb_topo_curve *c, const double a[3
             ta = lo;
             tb = hi;
         }
+        if (!closed && ta > tb) {
+            /* The edge runs up the curve from a to b; nearest points the other way round mean
+             * the curve passes a vertex twice (a curve shared by several edges that comes back
+             * near itself, as an intersection curve does at a node): keep one end and find
+             * the other beyond it, whichever pair lies closer. */
+            double t1, t2;
+            double d1 = cb_topo_curve_project(&t1, c, b, ta, hi);
+            double d2 = cb_topo_curve_project(&t2, c, a, lo, tb);
+            if (d1 <= d2)
+                tb = t1;
+            else
+                ta = t2;
+        }
     }
     e->t0 = ta;
     e->t1 = tb;
