@@ -527,6 +527,14 @@ static int inside(const cb_face *f, double u, double v)
         w[bb] = lo + (w[bb] - lo) - Pb * floor((w[bb] - lo) / Pb);
     }
     double x = w[a], y = w[bb];
+    if (!isfinite(x) || !isfinite(y))
+        return 0;
+    if (Pa > 0) {
+        /* x into one period from the box's low end, so that the copies counted below are a
+         * few (a point far out, as a fuzzed body gives, overflowed their count). */
+        double lo = isfinite(f->uv_box[2 * a]) ? f->uv_box[2 * a] : 0;
+        x = lo + (x - lo) - Pa * floor((x - lo) / Pa);
+    }
     int above = 0, total = 0;
     for (int k = 0; k < f->n_segs; k++) {
         const cb_face_seg *sg = &f->segs[k];
