@@ -16,14 +16,11 @@
 
 extern char **environ;
 
-/* Starts argv[0] with stdout into a pipe, reads at most cap bytes of it into out (*got of
- * them), waits for it and returns its exit status (-1: could not start or killed); *peak_kib
- * its ru_maxrss. */
-static inline int spawn_read(void *out, size_t cap, size_t *got, char *const argv[], long *peak_kib)
+/* Starts argv[0] with its stdout into a pipe: 0 with *pid and *rfd (the pipe's read end, to
+ * close), -1 when it could not be started (nothing left open). */
+static inline int spawn_piped(pid_t *pid, int *rfd, char *const argv[])
 {
     int fd[2];
-    *peak_kib = -1;
-    *got = 0;
     if (pipe(fd))
         return -1;
     posix_spawn_file_actions_t fa;
@@ -31,14 +28,28 @@ static inline int spawn_read(void *out, size_t cap, size_t *got, char *const arg
     posix_spawn_file_actions_adddup2(&fa, fd[1], 1);
     posix_spawn_file_actions_addclose(&fa, fd[0]);
     posix_spawn_file_actions_addclose(&fa, fd[1]);
-    pid_t pid;
-    int rc = posix_spawn(&pid, argv[0], &fa, NULL, argv, environ);
+    int rc = posix_spawn(pid, argv[0], &fa, NULL, argv, environ);
     posix_spawn_file_actions_destroy(&fa);
     close(fd[1]);
     if (rc) {
         close(fd[0]);
         return -1;
     }
+    *rfd = fd[0];
+    return 0;
+}
+
+/* Starts argv[0] with stdout into a pipe, reads at most cap bytes of it into out (*got of
+ * them), waits for it and returns its exit status (-1: could not start or killed); *peak_kib
+ * its ru_maxrss. */
+static inline int spawn_read(void *out, size_t cap, size_t *got, char *const argv[], long *peak_kib)
+{
+    int fd[1];
+    *peak_kib = -1;
+    *got = 0;
+    pid_t pid;
+    if (spawn_piped(&pid, fd, argv))
+        return -1;
     ssize_t n;
     while (*got < cap && (n = read(fd[0], (char *)out + *got, cap - *got)) > 0)
         *got += (size_t)n;

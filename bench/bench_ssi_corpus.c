@@ -33,13 +33,12 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "bench/bench_spawn.h"
 #include "bench/bench_ssi_pair.h"
 #include "bench/bench_ssi_score.h"
 #include "io/json.h"
 #include "models/models.h"
 #include "ssi/ssi.h"
-
-extern char **environ;
 
 static double now(void)
 {
@@ -98,23 +97,11 @@ static run_end run_timed(char **out, size_t *len, char *const argv[], double tim
     *out = NULL;
     *len = 0;
     *code = -1;
-    int fd[2];
-    if (pipe(fd))
-        return RUN_CRASH;
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_adddup2(&fa, fd[1], 1);
-    posix_spawn_file_actions_addclose(&fa, fd[0]);
-    posix_spawn_file_actions_addclose(&fa, fd[1]);
+    int fd[1];
     pid_t pid;
     double t0 = now();
-    int rc = posix_spawn(&pid, argv[0], &fa, NULL, argv, environ);
-    posix_spawn_file_actions_destroy(&fa);
-    close(fd[1]);
-    if (rc) {
-        close(fd[0]);
+    if (spawn_piped(&pid, fd, argv))
         return RUN_CRASH;
-    }
     size_t cap = 1 << 16;
     char *buf = malloc(cap);
     int killed = 0;

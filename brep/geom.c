@@ -109,3 +109,40 @@ void cb_sym3_eigen(double v[3][3], double m[3][3])
         }
     }
 }
+
+int cb_linsolve(double *A, double *b, int n, double rel)
+{
+    double big = 0;
+    for (int k = 0; k < n * n; k++)
+        big = fmax(big, fabs(A[k]));
+    for (int c = 0; c < n; c++) {
+        int p = c;
+        for (int r = c + 1; r < n; r++)
+            if (fabs(A[r * n + c]) > fabs(A[p * n + c]))
+                p = r;
+        if (!(fabs(A[p * n + c]) > rel * big))
+            return 0;
+        if (p != c) {
+            for (int k = 0; k < n; k++) {
+                double t = A[c * n + k];
+                A[c * n + k] = A[p * n + k];
+                A[p * n + k] = t;
+            }
+            double t = b[c];
+            b[c] = b[p];
+            b[p] = t;
+        }
+        for (int r = c + 1; r < n; r++) {
+            double f = A[r * n + c] / A[c * n + c];
+            for (int k = c; k < n; k++)
+                A[r * n + k] -= f * A[c * n + k];
+            b[r] -= f * b[c];
+        }
+    }
+    for (int c = n - 1; c >= 0; c--) {
+        for (int k = c + 1; k < n; k++)
+            b[c] -= A[c * n + k] * b[k];
+        b[c] /= A[c * n + c];
+    }
+    return 1;
+}

@@ -60,4 +60,9 @@ void cb_xform_apply_vector(double out[3], const cb_xform *x, const double v[3]);
  * identity. */
 void cb_sym3_eigen(double v[3][3], double m[3][3]);
 
+/* Solves the n x n system A x = b in place (A row-major, overwritten; x returned in b) by
+ * Gaussian elimination with partial pivoting. 0, with A and b in an undefined state, when a
+ * pivot is not above rel times the largest |A| entry (rel 0: when one is zero). */
+int cb_linsolve(double *A, double *b, int n, double rel);
+
 #endif

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "brep/geom.h"
 #include "ssi/spline.h"
 
 /* Boxes of the (edge parameter, other patch) search per boundary curve. */
@@ -644,40 +645,6 @@ typedef struct {
     double tol;
 } march_ctx;
 
-/* Gaussian elimination with partial pivoting, 4 x 4; 0 when singular. */
-static int solve4(double x[4], double A[4][4], double b[4])
-{
-    for (int c = 0; c < 4; c++) {
-        int p = c;
-        for (int r = c + 1; r < 4; r++)
-            if (fabs(A[r][c]) > fabs(A[p][c]))
-                p = r;
-        if (!(fabs(A[p][c]) > 0))
-            return 0;
-        for (int k = 0; k < 4; k++) {
-            double t = A[c][k];
-            A[c][k] = A[p][k];
-            A[p][k] = t;
-        }
-        double t = b[c];
-        b[c] = b[p];
-        b[p] = t;
-        for (int r = c + 1; r < 4; r++) {
-            double f = A[r][c] / A[c][c];
-            for (int k = c; k < 4; k++)
-                A[r][k] -= f * A[c][k];
-            b[r] -= f * b[c];
-        }
-    }
-    for (int c = 3; c >= 0; c--) {
-        double s = b[c];
-        for (int k = c + 1; k < 4; k++)
-            s -= A[c][k] * x[k];
-        x[c] = s / A[c][c];
-    }
-    return 1;
-}
-
 static void jac(double J[4][4], double F[4], double X[3], double Y[3], const march_ctx *m,
                 const double x[4], double h)
 {
@@ -712,10 +679,11 @@ static int correct(double x[4], const march_ctx *m, double h)
 {
     double step = HUGE_VAL;
     for (int it = 0; it < 20 && step > 1e-14; it++) {
-        double J[4][4], F[4], X[3], Y[3], d[4];
+        double J[4][4], F[4], X[3], Y[3];
         jac(J, F, X, Y, m, x, h);
-        if (!solve4(d, J, F))
+        if (!cb_linsolve(&J[0][0], F, 4, 0))
             return 0;
+        const double *d = F;
         step = 0;
         for (int k = 0; k < 4; k++) {
             x[k] -= d[k];
@@ -734,7 +702,10 @@ static int tangent(double t[4], const march_ctx *m, const double x[4], double h)
 {
     double J[4][4], F[4], X[3], Y[3], rhs[4] = {0, 0, 0, 1};
     jac(J, F, X, Y, m, x, h);
-    return solve4(t, J, rhs);
+    if (!cb_linsolve(&J[0][0], rhs, 4, 0))
+        return 0;
+    memcpy(t, rhs, sizeof rhs);
+    return 1;
 }
 
 static void point_xyz(double X[3], const march_ctx *m, const double x[4])

@@ -83,42 +83,6 @@ static int take_samples(samples *S, const cb_nurbs_surface_struct *s)
     return S->size > 0;
 }
 
-/* Solves the n x n system A x = b (row-major, overwritten) by Gaussian elimination with
- * partial pivoting; 0 when a pivot vanishes. */
-static int solve(double *A, double *b, int n)
-{
-    for (int c = 0; c < n; c++) {
-        int p = c;
-        for (int r = c + 1; r < n; r++)
-            if (fabs(A[r * n + c]) > fabs(A[p * n + c]))
-                p = r;
-        if (!(fabs(A[p * n + c]) > 0))
-            return 0;
-        if (p != c) {
-            for (int k = 0; k < n; k++) {
-                double t = A[c * n + k];
-                A[c * n + k] = A[p * n + k];
-                A[p * n + k] = t;
-            }
-            double t = b[c];
-            b[c] = b[p];
-            b[p] = t;
-        }
-        for (int r = c + 1; r < n; r++) {
-            double f = A[r * n + c] / A[c * n + c];
-            for (int k = c; k < n; k++)
-                A[r * n + k] -= f * A[c * n + k];
-            b[r] -= f * b[c];
-        }
-    }
-    for (int c = n - 1; c >= 0; c--) {
-        for (int k = c + 1; k < n; k++)
-            b[c] -= A[c * n + k] * b[k];
-        b[c] /= A[c * n + c];
-    }
-    return 1;
-}
-
 /* Largest distance of the samples from a (closed forms of the analytic inversion). */
 static double sample_dev(const samples *S, const cb_analytic_surface *a)
 {
@@ -162,7 +126,7 @@ static int fit_sphere(cb_analytic_surface *a, const samples *S)
                 A[4 * r + c] += row[r] * row[c];
         }
     }
-    if (!solve(A, b, 4))
+    if (!cb_linsolve(A, b, 4, 0))
         return 0;
     double c[3] = {b[0] / S->size, b[1] / S->size, b[2] / S->size};
     double r2 = b[3] + cb_vec3_dot(c, c), o[3];
@@ -211,7 +175,7 @@ static int fit_cylinder(cb_analytic_surface *a, const samples *S)
                 A[3 * r + c] += row[r] * row[c];
         }
     }
-    if (!solve(A, b, 3))
+    if (!cb_linsolve(A, b, 3, 0))
         return 0;
     double cl[3] = {b[0] / S->size, b[1] / S->size, 0}, o[3];
     double r2 = b[2] + cl[0] * cl[0] + cl[1] * cl[1];
@@ -255,7 +219,7 @@ static int fit_cone(cb_analytic_surface *a, const samples *S)
     double s = cb_vec3_dot(nb, z);
     if (!(fabs(s) > 1e-6 && fabs(s) < 1 - 1e-6))
         return 0;
-    if (!solve(A, b, 3))
+    if (!cb_linsolve(A, b, 3, 0))
         return 0;
     double side = 0;
     for (int i = 0; i < S->n; i++) {

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "brep/geom.h"
 #include "ssi/ssi.h"
 
 const char *cb_ssi_outcome_name(cb_ssi_outcome o)
@@ -302,7 +303,7 @@ static int curve_midpoint(cb_ssi_point *m, const cb_ssi_point *a, const cb_ssi_p
         double da[6][3], db[6][3];
         surface_derivs(da, A, x[0], x[1]);
         surface_derivs(db, B, x[2], x[3]);
-        double F[4], J[4][5];
+        double F[4], J[4][4], dx[4];
         for (int k = 0; k < 3; k++) {
             F[k] = da[0][k] - db[0][k];
             X[k] = 0.5 * (da[0][k] + db[0][k]);
@@ -316,45 +317,17 @@ static int curve_midpoint(cb_ssi_point *m, const cb_ssi_point *a, const cb_ssi_p
             J[k][1] = da[2][k];
             J[k][2] = -db[1][k];
             J[k][3] = -db[2][k];
-            J[k][4] = -F[k];
+            dx[k] = -F[k];
         }
         for (int c = 0; c < 2; c++) {
             J[3][c] = 0.5 * (n[0] * da[1 + c][0] + n[1] * da[1 + c][1] + n[2] * da[1 + c][2]);
             J[3][2 + c] = 0.5 * (n[0] * db[1 + c][0] + n[1] * db[1 + c][1] + n[2] * db[1 + c][2]);
         }
-        J[3][4] = -F[3];
-        /* Gaussian elimination with partial pivoting; a (nearly) singular system (the
-         * surfaces tangent along the curve) gives no point. */
-        double scale = 0;
-        for (int r = 0; r < 4; r++)
-            for (int c = 0; c < 4; c++)
-                scale = fmax(scale, fabs(J[r][c]));
-        for (int c = 0; c < 4; c++) {
-            int piv = c;
-            for (int r = c + 1; r < 4; r++)
-                if (fabs(J[r][c]) > fabs(J[piv][c]))
-                    piv = r;
-            if (!(fabs(J[piv][c]) > 1e-10 * scale))
-                return 0;
-            if (piv != c)
-                for (int q = 0; q < 5; q++) {
-                    double w = J[c][q];
-                    J[c][q] = J[piv][q];
-                    J[piv][q] = w;
-                }
-            for (int r = c + 1; r < 4; r++) {
-                double f = J[r][c] / J[c][c];
-                for (int q = c; q < 5; q++)
-                    J[r][q] -= f * J[c][q];
-            }
-        }
-        double dx[4];
-        for (int c = 3; c >= 0; c--) {
-            double acc = J[c][4];
-            for (int q = c + 1; q < 4; q++)
-                acc -= J[c][q] * dx[q];
-            dx[c] = acc / J[c][c];
-        }
+        dx[3] = -F[3];
+        /* A (nearly) singular system (the surfaces tangent along the curve) gives no
+         * point. */
+        if (!cb_linsolve(&J[0][0], dx, 4, 1e-10))
+            return 0;
         for (int c = 0; c < 4; c++)
             x[c] += dx[c];
         if (!isfinite(x[0] + x[1] + x[2] + x[3]))
