@@ -446,7 +446,7 @@ static int piece_cross(const cb_face *f, const cb_face_seg *sg, double s0, doubl
 
 /* Distance from p to face edge fe when it may be within limit, else HUGE_VAL: the stored
  * samples bound it from below, then Newton steps on the squared distance from the nearest
- * sample, clamped to the edge's range; lines and conics also by cb_topo_edge_distance (closed
+ * point of the sample polyline, clamped to the edge's range; lines and conics also by cb_topo_edge_distance (closed
  * forms). Every value is the distance to an edge point, so the smallest is too. */
 static double edge_distance(const cb_topo_body *b, const cb_face_edge *fe, const double p[3],
                             double limit)
@@ -454,17 +454,22 @@ static double edge_distance(const cb_topo_body *b, const cb_face_edge *fe, const
     const cb_topo_edge *ed = &b->edges[fe->edge];
     const cb_topo_curve *c = &b->curves[ed->curve];
     double best = HUGE_VAL, q[3];
-    int kb = 0;
-    for (int k = 0; k <= fe->n; k++) {
-        double d = cb_vec3_dist(fe->samples[k], p);
-        if (d < best) {
-            best = d;
-            kb = k;
-        }
-    }
+    for (int k = 0; k <= fe->n; k++)
+        best = fmin(best, cb_vec3_dist(fe->samples[k], p));
     if (best - fe->gap > limit)
         return HUGE_VAL;
-    double t = ed->t0 + (ed->t1 - ed->t0) * kb / fe->n;
+    /* Newton starts on the nearest chord, not at the nearest sample: on a closed edge the
+     * first and last samples coincide, and from the wrong one of the two the step points out
+     * of the range and stays clamped at its end. */
+    double seg = HUGE_VAL, pos = 0;
+    for (int k = 0; k < fe->n; k++) {
+        double l, d = cb_seg3_nearest(&l, fe->samples[k], fe->samples[k + 1], p);
+        if (d < seg) {
+            seg = d;
+            pos = k + l;
+        }
+    }
+    double t = ed->t0 + (ed->t1 - ed->t0) * pos / fe->n;
     for (int it = 0; it < 12; it++) {
         double d[3][3], r[3];
         cb_topo_curve_eval_derivs(d, c, t);

@@ -39,6 +39,20 @@ static inline double cb_vec3_normalize(double a[3])
     return n;
 }
 
+/* Distance from p to the segment a-b, and *lambda in [0, 1]: the nearest point's position
+ * a + lambda (b - a). */
+static inline double cb_seg3_nearest(double *lambda, const double a[3], const double b[3],
+                                     const double p[3])
+{
+    double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double ap[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+    double den = cb_vec3_dot(ab, ab), l = den > 0 ? cb_vec3_dot(ap, ab) / den : 0;
+    l = l < 0 ? 0 : l > 1 ? 1 : l;
+    double q[3] = {a[0] + l * ab[0], a[1] + l * ab[1], a[2] + l * ab[2]};
+    *lambda = l;
+    return cb_vec3_dist(q, p);
+}
+
 /* A rigid motion x -> R x + t (R orthonormal, det +1). */
 typedef struct {
     double r[3][3];

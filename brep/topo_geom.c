@@ -128,15 +128,18 @@ double cb_topo_curve_project(double *t, const cb_topo_curve *c, const double p[3
         int n = c->kind == CB_CURVE_NURBS ? 8 * (c->nurbs->n - c->nurbs->deg) + 8 : 64;
         if (n > 2048)
             n = 2048;
-        double best = a, best_d = HUGE_VAL;
+        /* Newton starts on the nearest chord of the samples, not at the nearest sample: a
+         * closed curve's first and last samples coincide, and from the wrong one the step
+         * points out of [a, b] and stays clamped there. */
+        double best = a, best_d = HUGE_VAL, prev[3];
         for (int k = 0; k <= n; k++) {
-            double s = a + (b - a) * k / n;
-            cb_topo_curve_eval(q, c, s);
-            double dist = cb_vec3_dist(q, p);
+            cb_topo_curve_eval(q, c, a + (b - a) * k / n);
+            double l = 0, dist = k ? cb_seg3_nearest(&l, prev, q, p) : HUGE_VAL;
             if (dist < best_d) {
                 best_d = dist;
-                best = s;
+                best = a + (b - a) * (k - 1 + l) / n;
             }
+            memcpy(prev, q, sizeof prev);
         }
         *t = curve_newton(c, p, best, a, b);
         if (c->kind == CB_CURVE_ELLIPSE && *t >= TWO_PI)
