@@ -102,6 +102,11 @@ void cb_bool_solid_box(cb_aabb *box, const cb_bool_solid *s);
 cb_status cb_bool_solid_classify(cb_bool_where *where, const cb_bool_solid *s, const double p[3],
                                  cb_error *err);
 
+/* cb_bool_solid_classify against the faces first .. first + count - 1 only (one closed shell
+ * of the body: which side of that shell p lies on, the other shells not counted). */
+cb_status cb_bool_solid_classify_faces(cb_bool_where *where, const cb_bool_solid *s,
+                                       const double p[3], int first, int count, cb_error *err);
+
 /* The outward unit normal of the face of s nearest p (cb_face_distance), when one lies within
  * the handle's tolerance of p and has a normal there: 1; else 0 (n unset). Thread safe. */
 int cb_bool_solid_normal_at(double n[3], const cb_bool_solid *s, const double p[3]);

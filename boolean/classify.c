@@ -92,12 +92,14 @@ static void direction(double d[3], int k)
 /* Parity of the crossings of the ray from p along d: 0 or 1, or -1 when a hit grazes or lies
  * on an edge. */
 static int ray_parity(const cb_bool_solid *s, const double p[3], const double d[3], double len,
-                      int *cand)
+                      int *cand, int lo, int hi)
 {
     int n = cb_bool_bvh_query_ray(cand, s->n_faces, &s->bvh, p, d, 0, len, s->tol);
     int count = 0;
     cb_face_hit hits[MAX_HITS];
     for (int k = 0; k < n; k++) {
+        if (cand[k] < lo || cand[k] >= hi)
+            continue;
         int m = cb_face_ray(hits, MAX_HITS, &s->faces[cand[k]], p, d, 0, len, s->tol,
                             CB_BOOL_GRAZE_COS);
         if (m > MAX_HITS)
@@ -110,8 +112,24 @@ static int ray_parity(const cb_bool_solid *s, const double p[3], const double d[
     return count % 2;
 }
 
+/* cb_bool_solid_classify counting only the faces lo <= k < hi. */
+static cb_status classify_range(cb_bool_where *where, const cb_bool_solid *s, const double p[3],
+                                int lo, int hi, cb_error *err);
+
 cb_status cb_bool_solid_classify(cb_bool_where *where, const cb_bool_solid *s, const double p[3],
                                  cb_error *err)
+{
+    return classify_range(where, s, p, 0, s->n_faces, err);
+}
+
+cb_status cb_bool_solid_classify_faces(cb_bool_where *where, const cb_bool_solid *s,
+                                       const double p[3], int first, int count, cb_error *err)
+{
+    return classify_range(where, s, p, first, first + count, err);
+}
+
+static cb_status classify_range(cb_bool_where *where, const cb_bool_solid *s, const double p[3],
+                                int lo, int hi, cb_error *err)
 {
     *where = CB_BOOL_OUT;
     if (!isfinite(p[0] + p[1] + p[2]))
@@ -124,7 +142,8 @@ cb_status cb_bool_solid_classify(cb_bool_where *where, const cb_bool_solid *s, c
         return cb_error_set(err, CB_ERR_NOMEM, "point in solid: out of memory");
     int n = cb_bool_bvh_query_box(cand, s->n_faces, &s->bvh, &pt, s->tol);
     for (int k = 0; k < n; k++)
-        if (cb_face_distance(NULL, &s->faces[cand[k]], p) <= s->tol) {
+        if (cand[k] >= lo && cand[k] < hi &&
+            cb_face_distance(NULL, &s->faces[cand[k]], p) <= s->tol) {
             *where = CB_BOOL_ON;
             free(cand);
             return CB_OK;
@@ -140,7 +159,7 @@ cb_status cb_bool_solid_classify(cb_bool_where *where, const cb_bool_solid *s, c
     for (int k = 0; k < CB_BOOL_MAX_RAYS; k++) {
         double d[3];
         direction(d, k);
-        int r = ray_parity(s, p, d, len, cand);
+        int r = ray_parity(s, p, d, len, cand, lo, hi);
         if (r < 0) {
             rejected++;
             continue;

@@ -56,33 +56,80 @@ static cb_status make_shells(cb_topo_body *b, const int *start, int n_shells, cb
     return CB_OK;
 }
 
-static int box_inside(const cb_aabb *in, const cb_aabb *out)
-{
-    for (int k = 0; k < 3; k++)
-        if (in->lo[k] < out->lo[k] || in->hi[k] > out->hi[k])
-            return 0;
-    return 1;
-}
-
-/* The box of the vertices of the edges of shell s. */
-static void shell_box(cb_aabb *box, const cb_topo_body *b, int s)
+/* A box holding shell s: the union of its faces' conservative boxes (cb_face_box). The
+ * vertices alone do not do: a sphere bounded by a vertex loop has one vertex, at a pole. */
+static void shell_box(cb_aabb *box, const cb_bool_solid *S, const cb_topo_body *b, int s)
 {
     for (int k = 0; k < 3; k++) {
         box->lo[k] = HUGE_VAL;
         box->hi[k] = -HUGE_VAL;
     }
     const cb_topo_shell *sh = b->shells + s;
-    for (int f = sh->first; f < sh->first + sh->count; f++)
-        for (int l = b->faces[f].first; l < b->faces[f].first + b->faces[f].count; l++)
-            for (int c = b->loops[l].first; c < b->loops[l].first + b->loops[l].count; c++) {
-                const cb_topo_edge *e = b->edges + b->coedges[c].edge;
-                for (int v = 0; v < 2; v++)
-                    for (int k = 0; k < 3; k++) {
-                        double x = b->vertices[e->v[v]].p[k];
-                        box->lo[k] = x < box->lo[k] ? x : box->lo[k];
-                        box->hi[k] = x > box->hi[k] ? x : box->hi[k];
-                    }
+    for (int f = sh->first; f < sh->first + sh->count; f++) {
+        cb_aabb fb;
+        cb_face_box(&fb, cb_bool_solid_face(S, f));
+        for (int k = 0; k < 3; k++) {
+            box->lo[k] = fb.lo[k] < box->lo[k] ? fb.lo[k] : box->lo[k];
+            box->hi[k] = fb.hi[k] > box->hi[k] ? fb.hi[k] : box->hi[k];
+        }
+    }
+}
+
+/* A point of face F well inside it: of a 9 x 9 grid over its (u, v) box, the point IN the
+ * face farthest from its boundary edges; 0 when no grid point is IN. */
+static int face_inner_point(double X[3], const cb_face *F, double tol)
+{
+    const double *bx = F->uv_box;
+    double best = -1;
+    for (int i = 1; i < 10; i++)
+        for (int j = 1; j < 10; j++) {
+            double u = bx[0] + (bx[1] - bx[0]) * i / 10, v = bx[2] + (bx[3] - bx[2]) * j / 10;
+            if (cb_face_classify_uv(F, u, v, tol) != CB_FACE_IN)
+                continue;
+            double p[3];
+            cb_topo_inverter_eval(p, &F->inv, u, v);
+            double d = cb_face_boundary_distance(F, p);
+            if (d > best) {
+                best = d;
+                memcpy(X, p, sizeof p);
             }
+        }
+    return best >= 0;
+}
+
+/* *owner: the smallest outward shell (by volume) that void s lies inside, or -1. Shells of a
+ * Boolean's result do not cross, so one point of the void tells: a point inside one of its
+ * faces, classified against each outward shell alone (rays counting that shell's faces only);
+ * a point ON an outward shell (voids may touch their shell) is replaced by one of the next
+ * face. */
+static cb_status void_owner(int *owner, const cb_bool_solid *S, const cb_topo_body *b, int s,
+                            const double *vol, const cb_aabb *box, int m, cb_error *err)
+{
+    *owner = -1;
+    const cb_topo_shell *sh = b->shells + s;
+    for (int f = sh->first; f < sh->first + sh->count; f++) {
+        double X[3];
+        if (!face_inner_point(X, cb_bool_solid_face(S, f), b->tol))
+            continue;
+        int on = 0, own = -1;
+        for (int o = 0; o < m && !on; o++) {
+            if (!(vol[o] > 0) || !cb_aabb_overlap(box + s, box + o, b->tol))
+                continue;
+            cb_bool_where w;
+            cb_status st = cb_bool_solid_classify_faces(&w, S, X, b->shells[o].first,
+                                                        b->shells[o].count, err);
+            if (st)
+                return st;
+            on = w == CB_BOOL_ON;
+            if (w == CB_BOOL_IN && (own < 0 || vol[o] < vol[own]))
+                own = o;
+        }
+        if (!on) {
+            *owner = own;
+            return CB_OK;
+        }
+    }
+    return CB_OK;
 }
 
 cb_status _cb_bool_split_shells(cb_topo_body *b, cb_error *err)
@@ -95,6 +142,7 @@ cb_status _cb_bool_split_shells(cb_topo_body *b, cb_error *err)
     double *vol = malloc((size_t)n * sizeof *vol);
     int *owner = malloc((size_t)(n + 1) * sizeof *owner), *rank = malloc((size_t)n * sizeof *rank);
     cb_aabb *box = malloc((size_t)n * sizeof *box);
+    cb_bool_solid *S = NULL;
     cb_status st = CB_OK;
     if (!parent || !comp || !order || !start || !vol || !owner || !rank || !box) {
         st = cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
@@ -137,23 +185,24 @@ cb_status _cb_bool_split_shells(cb_topo_body *b, cb_error *err)
         st = make_shells(b, start, m, err);
     /* Outer shells (outward: positive volume) and voids (negative), by a coarse integration
      * whose sign is all that is used. */
-    for (int s = 0; s < m && !st; s++) {
+    for (int s = 0; s < m && !st; s++)
         st = cb_topo_shell_volume(vol + s, b, s, 16, b->tol, err);
-        shell_box(box + s, b, s);
-    }
+    int any_void = 0;
+    for (int s = 0; s < m; s++)
+        any_void |= !(vol[s] > 0);
+    if (!st && any_void)
+        st = cb_bool_solid_new(&S, b, b->tol, err);
+    for (int s = 0; s < m && !st && any_void; s++)
+        shell_box(box + s, S, b, s);
     if (st)
         goto done;
-    /* Each void belongs to the smallest outer shell whose box holds its box: shells of a
-     * Boolean's result do not cross, so the outer shell around a void is among these. */
+    /* Each void belongs to the smallest outer shell around it. */
     for (int s = 0; s < m && !st; s++) {
         owner[s] = -1;
         if (vol[s] > 0)
             continue;
-        for (int o = 0; o < m; o++)
-            if (vol[o] > 0 && box_inside(box + s, box + o) &&
-                (owner[s] < 0 || vol[o] < vol[owner[s]]))
-                owner[s] = o;
-        if (owner[s] < 0)
+        st = void_owner(owner + s, S, b, s, vol, box, m, err);
+        if (!st && owner[s] < 0)
             st = cb_error_set(err, CB_ERR_NUMERIC,
                               "bool: the result has an inward shell (%d faces) inside no outer "
                               "shell",
@@ -200,6 +249,7 @@ cb_status _cb_bool_split_shells(cb_topo_body *b, cb_error *err)
         b->shells[i].solid = sol;
     }
 done:
+    cb_bool_solid_free(S);
     free(parent);
     free(comp);
     free(order);
