@@ -531,9 +531,10 @@ static cb_status split_t_junctions(builder *bd, op_face *faces, int n_faces,
             double t, lo = fmin(g->t_start, g->t_end), hi = fmax(g->t_start, g->t_end);
             double d = g->cut ? cb_bool_cut_project(&t, bd->cuts->cut + g->src, P, lo, hi)
                               : cb_topo_curve_project(&t, g->curve, P, lo, hi);
+            /* A conic's projection is in [0, 2 pi); the piece's range may start below 0 (a
+             * sphere's seam meridian runs over [-pi/2, pi/2]): the lift in [lo, lo + 2 pi). */
             if (g->curve->kind == CB_CURVE_CIRCLE || g->curve->kind == CB_CURVE_ELLIPSE)
-                while (t < lo)
-                    t += 2 * CB_SSI_PI;
+                t -= 2 * CB_SSI_PI * floor((t - lo) / (2 * CB_SSI_PI));
             if (d > bd->weld || !(t > lo && t < hi) ||
                 dist3(P, b->vertices[g->v_start].p) <= bd->weld ||
                 dist3(P, b->vertices[g->v_end].p) <= bd->weld)
