@@ -142,6 +142,10 @@ static void loop_extent(double *a, double *b, const cb_face *f, int i)
  * more) span the whole period: rounding of the seam's parameter in files and pcurves. */
 #define SEAM_REL 1e-9
 
+/* A curve point within this fraction of the period of a window's end lies on the seam there
+ * (the SSI's points on a seam carry the surface's inversion error in the parameter). */
+#define SEAM_BAND 1e-7
+
 /* Whether a face's loops span the whole period P from a to b: it has a seam there. */
 static int spans_period(double a, double b, double P)
 {
@@ -418,6 +422,21 @@ cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cu
             for (int d = 0; d < 2; d++)
                 if (cx->P[s][d] > 0)
                     r->p[i].uv[s][d] = wrap(r->p[i].uv[s][d], cx->lo[s][d], cx->P[s][d]);
+    /* A point on a window's end (a seam) has two lifts, and rounding picks either: along a
+     * curve running on the seam it would jump from one to the other and back, splitting the
+     * cut into pieces on both copies of the seam. Such a point keeps its predecessor's side. */
+    for (int i = 1; i < r->n; i++)
+        for (int s = 0; s < 2; s++)
+            for (int d = 0; d < 2; d++) {
+                double P = cx->P[s][d], lo = cx->lo[s][d], *x = &r->p[i].uv[s][d];
+                double prev = r->p[i - 1].uv[s][d], band = SEAM_BAND * P;
+                if (!(P > 0) || fabs(*x - prev) <= 0.5 * P)
+                    continue;
+                if (*x - lo <= band && prev > lo + 0.5 * P)
+                    *x += P;
+                else if (lo + P - *x <= band && prev < lo + 0.5 * P)
+                    *x -= P;
+            }
     cut_pt before, after;
     int first = -1, at_pole = 0;
     for (int i = 0; i + 1 < r->n && first < 0; i++)
