@@ -424,7 +424,9 @@ cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cu
                     r->p[i].uv[s][d] = wrap(r->p[i].uv[s][d], cx->lo[s][d], cx->P[s][d]);
     /* A point on a window's end (a seam) has two lifts, and rounding picks either: along a
      * curve running on the seam it would jump from one to the other and back, splitting the
-     * cut into pieces on both copies of the seam. Such a point keeps its predecessor's side. */
+     * cut into pieces on both copies of the seam. A point on the seam next to another on it
+     * (the curve runs along the seam there) keeps its predecessor's copy; a curve that only
+     * crosses the seam, or touches it at one point, is split there (find_cross). */
     for (int i = 1; i < r->n; i++)
         for (int s = 0; s < 2; s++)
             for (int d = 0; d < 2; d++) {
@@ -432,9 +434,13 @@ cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cu
                 double prev = r->p[i - 1].uv[s][d], band = SEAM_BAND * P;
                 if (!(P > 0) || fabs(*x - prev) <= 0.5 * P)
                     continue;
-                if (*x - lo <= band && prev > lo + 0.5 * P)
+                double next = i + 1 < r->n ? r->p[i + 1].uv[s][d] : HUGE_VAL;
+                int x_lo = fabs(*x - lo) <= band, x_hi = fabs(*x - lo - P) <= band;
+                int run = fabs(prev - lo) <= band || fabs(prev - lo - P) <= band ||
+                          fabs(next - lo) <= band || fabs(next - lo - P) <= band;
+                if (run && x_lo)
                     *x += P;
-                else if (lo + P - *x <= band && prev < lo + 0.5 * P)
+                else if (run && x_hi)
                     *x -= P;
             }
     cut_pt before, after;
