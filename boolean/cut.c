@@ -694,25 +694,6 @@ cb_status cb_bool_cut_curve(cb_topo_curve *out, const cb_bool_cut *c, int side, 
     return st;
 }
 
-/* At a pole (a point where S_u or S_v vanishes: a sphere's poles, a cone's apex) the
- * parameter along the collapsed line is arbitrary, and the SSI gives whatever its inversion
- * found; the curve's own limit is its neighbour's value. Set it so, lest the polyline run
- * along the pole line (or across a period) at its end. */
-static void settle_poles(cut_pt *p, int n, int side, const cb_face *f)
-{
-    for (int d = 0; d < 2; d++)
-        for (int i = 0; i < n; i++) {
-            double dd[6][3];
-            cb_topo_inverter_eval_derivs(dd, &f->inv, p[i].uv[side][0], p[i].uv[side][1]);
-            double a = norm3(dd[1 + d]), b = norm3(dd[2 - d]);
-            if (!(a <= 1e-9 * b))
-                continue;
-            int j = i > 0 ? i - 1 : i + 1;
-            if (j < n)
-                p[i].uv[side][d] = p[j].uv[side][d];
-        }
-}
-
 /* Curves that meet at a node (where an intersection curve passes from one face to the next)
  * reach it from two face pairs computed apart, so their ends differ by up to the polyline's
  * chord error. Ends within weld of an earlier end (in cut order) are moved onto it, their
@@ -807,7 +788,7 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
             memcpy(pts[i].uv[1], c->pt[i].uv_b, 2 * sizeof(double));
         }
         for (int s = 0; s < 2; s++)
-            settle_poles(pts, n, s, cx.f[s]);
+            cb_topo_settle_poles(pts[0].uv[s], sizeof *pts, n, &cx.f[s]->inv);
         for (int i = 0; i < n; i++) {
             in[i] = (char)inside_both(&cx, pts + i, cls_tol);
             n_in += in[i];

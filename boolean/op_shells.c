@@ -188,7 +188,7 @@ cb_status _cb_bool_split_shells(cb_topo_body *b, cb_error *err)
     for (int s = 0; s < m && !st; s++)
         st = cb_topo_shell_volume(vol + s, b, s, 16, b->tol, err);
     int any_void = 0;
-    for (int s = 0; s < m; s++)
+    for (int s = 0; s < m && !st; s++)
         any_void |= !(vol[s] > 0);
     if (!st && any_void)
         st = cb_bool_solid_new(&S, b, b->tol, err);

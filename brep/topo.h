@@ -306,6 +306,12 @@ void cb_topo_inverter_clear(cb_topo_inverter *inv);
 void cb_topo_inverter_eval_derivs(double d[6][3], const cb_topo_inverter *inv, double u,
                                   double v);
 void cb_topo_inverter_eval(double p[3], const cb_topo_inverter *inv, double u, double v);
+/* Points along a curve on the surface where the surface collapses (a pole, an apex: |S_u| or
+ * |S_v| at most 1e-9 of the other) have a free parameter along the collapsed line, whatever
+ * an inversion gave. Each maximal run of such points takes, in that parameter, the value of
+ * the point before the run (the one after it for a run at the start), so that the curve does
+ * not run along the collapsed line. uv: n points (u, v), stride bytes apart. */
+void cb_topo_settle_poles(double *uv, size_t stride, int n, const cb_topo_inverter *inv);
 /* (u, v) of the point of the surface nearest p; returns the distance |S(u, v) - p|.
  * guess NULL: global search (closed forms for plane, cylinder, cone, sphere, torus; start
  * grid or sampled profile otherwise), periodic parameters in [box[2i], box[2i] + period).

@@ -450,22 +450,25 @@ static void hermite(double uv[2], const node *a, const node *b, double t)
         uv[k] = h00 * a->uv[k] + h10 * h * a->d[k] + h01 * b->uv[k] + h11 * h * b->d[k];
 }
 
-/* Where the surface collapses at a node (a pole, an apex), the parameter along the collapsed
- * line is free: take the neighbour's so the pcurve does not jump there. */
-static void settle_singular(node *nd, int n, const cb_topo_inverter *inv)
+void cb_topo_settle_poles(double *uv, size_t stride, int n, const cb_topo_inverter *inv)
 {
-    for (int k = 0; k < n; k++) {
-        double d[6][3];
-        cb_topo_inverter_eval_derivs(d, inv, nd[k].uv[0], nd[k].uv[1]);
-        double nu = cb_vec3_norm(d[1]), nv = cb_vec3_norm(d[2]);
-        const node *nb = k + 1 < n ? &nd[k + 1] : k > 0 ? &nd[k - 1] : NULL;
-        if (!nb)
-            continue;
-        if (nu <= 1e-9 * nv)
-            nd[k].uv[0] = nb->uv[0];
-        if (nv <= 1e-9 * nu)
-            nd[k].uv[1] = nb->uv[1];
-    }
+#define UV(k) ((double *)((char *)uv + (size_t)(k) * stride))
+    for (int d = 0; d < 2; d++)
+        for (int k = 0; k < n;) {
+            int e = k;
+            for (; e < n; e++) {
+                double dd[6][3];
+                cb_topo_inverter_eval_derivs(dd, inv, UV(e)[0], UV(e)[1]);
+                if (!(cb_vec3_norm(dd[1 + d]) <= 1e-9 * cb_vec3_norm(dd[2 - d])))
+                    break;
+            }
+            /* points k .. e - 1 collapse in direction d */
+            int from = k > 0 ? k - 1 : e < n ? e : -1;
+            for (int j = k; j < e && from >= 0; j++)
+                UV(j)[d] = UV(from)[d];
+            k = e > k ? e : k + 1;
+        }
+#undef UV
 }
 
 /* Largest |S(q(t)) - foot(t)| over n test points of a candidate exact pcurve q on [t0, t1]. */
@@ -567,7 +570,7 @@ static cb_status edge_pcurve(cb_topo_curve *out, const cb_topo_body *b, int e,
         nd[k].t = ts[k];
         foot_at(nd[k].uv, foot, inv, cv, ts[k], k ? nd[k - 1].uv : NULL);
     }
-    settle_singular(nd, n, inv);
+    cb_topo_settle_poles(nd[0].uv, sizeof *nd, n, inv);
     cb_status st = CB_OK;
     /* Exact forms first: they are tested like the fit, so a miss only costs the test. */
     if (plane_conic(out, inv->s, cv) && exact_deviation(out, inv, cv, t0, t1, N_VERIFY) <= tol)

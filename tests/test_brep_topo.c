@@ -534,8 +534,40 @@ static void test_degenerate_faces(void)
         }
 }
 
+/* Points of a curve through a sphere's poles (a meridian, as a plane through the axis cuts
+ * it), with the longitude an inversion leaves free there set arbitrarily: each run of pole
+ * points takes the longitude of the point before it, a run at the start that of the point
+ * after it; the latitude is never touched. */
+static void test_settle_poles(void)
+{
+    cb_topo_body *b = NULL;
+    cb_error err;
+    CHECK(cb_prim_sphere(&b, NULL, 1.5, 0, 0, &err) == CB_OK, "sphere: %s", err.msg);
+    if (!b)
+        return;
+    cb_topo_inverter inv;
+    CHECK(cb_topo_inverter_init(&inv, b->surfaces + b->faces[0].surface, 1e-9, &err) == CB_OK,
+          "inverter: %s", err.msg);
+    const double h = 0.5 * 3.14159265358979323846;
+    /* south pole x 3, meridian u = 1, north pole x 2, meridian u = 4, south pole x 2 */
+    double uv[][2] = {{0.3, -h}, {2.0, -h}, {5.0, -h}, {1, -1}, {1, 0}, {1, 1},  {6.0, h},
+                      {0.1, h},  {4, 1},    {4, 0},    {4, -1}, {2.5, -h}, {0.7, -h}};
+    const double want[] = {1, 1, 1, 1, 1, 1, 1, 1, 4, 4, 4, 4, 4};
+    int n = (int)(sizeof uv / sizeof uv[0]);
+    double v0[13];
+    for (int i = 0; i < n; i++)
+        v0[i] = uv[i][1];
+    cb_topo_settle_poles(uv[0], sizeof uv[0], n, &inv);
+    for (int i = 0; i < n; i++)
+        CHECK(uv[i][0] == want[i] && uv[i][1] == v0[i], "point %d: (%g, %g), want (%g, %g)", i,
+              uv[i][0], uv[i][1], want[i], v0[i]);
+    cb_topo_inverter_clear(&inv);
+    cb_topo_body_free(b);
+}
+
 int main(void)
 {
+    test_settle_poles();
     test_surfaces();
     test_curves();
     test_body();
