@@ -10,7 +10,7 @@
 #include "brep/parallel.h"
 
 /* Integrated quantities: volume, area, first moment (x, y, z), all about the reference point. */
-enum { QV, QA, QX, QY, QZ, NQ };
+enum { QV, QA, QX, QY, QZ, QNX, QNY, QNZ, NQ };
 
 enum { MAX_DEPTH_INNER = 30, MAX_DEPTH_OUTER = 30 };
 
@@ -100,7 +100,8 @@ static void adapt(double res[NQ], adaptive *ad, double a, double b, const double
                   const double g[NQ], const double l1[NQ], const double tol[NQ], int depth)
 {
     int ok = 1;
-    for (int q = 0; q < NQ; q++)
+    /* The vector area is a check, not a result: it rides on the others' subdivision. */
+    for (int q = 0; q < QNX; q++)
         ok &= fabs(k[q] - g[q]) <= fmax(tol[q], ad->noise * l1[q]);
     if (ok || depth >= ad->max_depth || ad->budget <= 0 || ad->cancelled) {
         for (int q = 0; q < NQ; q++)
@@ -195,7 +196,7 @@ static void clamp_uv(double uv[2], const face_work *w)
             uv[i] = fmin(fmax(uv[i], w->inv->box[2 * i]), w->inv->box[2 * i + 1]);
 }
 
-/* The integrands at (u, v): (S - c).N / 3, |N|, (S - c) ((S - c).N) / 4, N = S_u x S_v. */
+/* The integrands at (u, v): (S - c).N / 3, |N|, (S - c) ((S - c).N) / 4, N, N = S_u x S_v. */
 static void integrands(double out[NQ], const face_work *w, double u, double v)
 {
     double uv[2] = {u, v}, d[6][3], n[3], r[3];
@@ -207,8 +208,10 @@ static void integrands(double out[NQ], const face_work *w, double u, double v)
     double rn = cb_vec3_dot(r, n);
     out[QV] = rn / 3;
     out[QA] = cb_vec3_norm(n);
-    for (int i = 0; i < 3; i++)
+    for (int i = 0; i < 3; i++) {
         out[QX + i] = 0.25 * r[i] * rn;
+        out[QNX + i] = n[i];
+    }
 }
 
 static void inner_fn(double out[NQ], double mag[NQ], double x, void *ctx)
@@ -604,7 +607,7 @@ static cb_status face_integrate(face_result *res, const cb_topo_body *b, int f, 
     w.rel_in = INNER_FACTOR * rel;
     w.noise_in = INNER_NOISE * (1 + cb_vec3_norm(c) / scale);
     memcpy(w.c, c, sizeof w.c);
-    double dims[NQ] = {3, 2, 4, 4, 4};
+    double dims[NQ] = {3, 2, 4, 4, 4, 2, 2, 2};
     for (int q = 0; q < NQ; q++) {
         w.floor_out[q] = 1e-6 * rel * pow(scale, dims[q]);
         w.floor_in[q] = INNER_FACTOR * w.floor_out[q];
@@ -901,6 +904,7 @@ static void finish_props(cb_mass_props *m, const double q[NQ], const double c[3]
     m->volume = q[QV];
     m->area = q[QA];
     for (int i = 0; i < 3; i++) {
+        m->vector_area[i] = q[QNX + i];
         m->moment[i] = q[QX + i] + c[i] * q[QV];
         m->centroid[i] = q[QV] != 0 ? c[i] + q[QX + i] / q[QV] : c[i];
     }

@@ -60,6 +60,11 @@ typedef struct {
     double area;        /* area of the faces */
     double centroid[3]; /* centroid of the enclosed volume (the reference point if volume 0) */
     double moment[3];   /* first moment: the integral of x dV (world origin) */
+    double vector_area[3]; /* the integral of the outward normal over the faces: zero for a
+                              closed surface, up to the gaps its edge tolerances allow. The
+                              volume about a reference point moved by d changes by
+                              -d . vector_area / 3, so a larger value says a face was integrated
+                              over the wrong region and the volume is not to be trusted. */
 } cb_mass_props;
 
 /* Mass properties of shell k of body b; rel_tol <= 0 selects CB_MASS_REL_TOL. Preconditions,

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "brep/geom.h"
 #include "brep/mass.h"
 #include "brep/mesh_check.h"
 #include "brep/tess.h"
@@ -33,6 +34,25 @@ void cb_cli_result_check(cb_cli_result *r, cb_topo_body *res, cb_mesh_t mesh,
     } else if (r->valid) {
         r->valid = 0;
         snprintf(r->message, sizeof r->message, "volume: %s", err.msg);
+    }
+    /* The faces' integrated normals must close up: a closed surface's vector area is zero,
+     * up to the gaps between faces meeting along an edge, within the body's tolerance: at
+     * most twice it times the edges' length. (Measured on the committed corpus subset: at
+     * most 0.8% of that.) More says a face was integrated over the wrong region of its
+     * surface, and the volume, which then depends on the reference point, is wrong. */
+    if (!st && r->valid) {
+        double len = 0, va = cb_vec3_norm(m.vector_area);
+        for (int e = 0; e < res->n_edges; e++)
+            len += cb_topo_edge_length(res, e);
+        double bound = 2 * res->tol * len + 1e-9 * fabs(m.area);
+        if (!(va <= bound) || !(m.area >= 0)) {
+            r->valid = 0;
+            snprintf(r->message, sizeof r->message,
+                     "volume: the faces' integrated normals do not close up (vector area "
+                     "%.3g, the tolerance allows %.3g; area %.10g): a face integrated over "
+                     "the wrong region, the volume %.10g not to be trusted",
+                     va, bound, m.area, m.volume);
+        }
     }
     if (res->n_faces == 0) {
         /* The empty solid (disjoint or touching operands): nothing to mesh, nothing wrong. */

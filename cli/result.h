@@ -23,7 +23,9 @@ typedef struct {
                                            meets itself (0: not looked for, or none) */
 } cb_cli_result;
 
-/* Validates res at its tolerance, integrates its volume and area (CB_MASS_REL_TOL), tessellates
+/* Validates res at its tolerance, integrates its volume and area (CB_MASS_REL_TOL; the area
+ * must be positive and the faces' vector area within twice the tolerance times the edges'
+ * length of zero, else the volume is not trusted and the result is not valid), tessellates
  * it into mesh (replacing its contents; default tolerances) and checks the mesh (closed,
  * manifold, self-intersections, volume, and the B-rep's volume within twice the chordal
  * tolerance times the area of the mesh's); the first failure is r->message. The empty body (no

@@ -180,6 +180,44 @@ static void check_primitive(int shape, int as_nurbs, const cb_frame *f, int pose
           "%s nurbs %d pose %d: volume %.17g (exact %.17g, rel %.3g), area %.17g (exact %.17g, "
           "rel %.3g), centroid off by %.3g",
           shape_name[shape], as_nurbs, pose, m.volume, ref[0], ev, m.area, ref[1], ea, ec);
+    /* closed: the normals integrate to zero */
+    CHECK(!st && cb_vec3_norm(m.vector_area) <= 1e-9 * m.area,
+          "%s nurbs %d pose %d: vector area %.3g of area %.6g", shape_name[shape], as_nurbs, pose,
+          cb_vec3_norm(m.vector_area), m.area);
+    /* A plane face whose loops run backwards (its region integrated with the wrong sign)
+     * leaves twice its vector area: what the check of Boolean results relies on
+     * (cli/result.c). */
+    int plane = -1;
+    for (int k = 0; k < b->n_faces && plane < 0; k++) {
+        const cb_topo_surface *sf = b->surfaces + b->faces[k].surface;
+        if (sf->kind == CB_SURFACE_ANALYTIC && sf->analytic.kind == CB_ANALYTIC_PLANE)
+            plane = k;
+    }
+    if (!st && plane >= 0) {
+        /* its loops run backwards: coedges in reverse order, each the other way along its
+         * edge */
+        const cb_topo_face *fc = b->faces + plane;
+        for (int l = fc->first; l < fc->first + fc->count; l++) {
+            cb_topo_coedge *c = b->coedges + b->loops[l].first;
+            for (int i = 0, j = b->loops[l].count - 1; i < j; i++, j--) {
+                cb_topo_coedge t = c[i];
+                c[i] = c[j];
+                c[j] = t;
+            }
+            for (int i = 0; i < b->loops[l].count; i++)
+                c[i].sense = !c[i].sense;
+        }
+        st = cb_topo_body_index(b, &err);
+        CHECK(st == CB_OK, "%s: index: %s", shape_name[shape], err.msg);
+    }
+    if (!st && plane >= 0) {
+        cb_mass_props m2;
+        st = cb_mass_body(&m2, b, 0, NULL, &err);
+        CHECK(st == CB_OK && cb_vec3_norm(m2.vector_area) > 1e-3 * m.area,
+              "%s nurbs %d pose %d: one face turned, vector area %.3g of area %.6g (%s)",
+              shape_name[shape], as_nurbs, pose, st ? NAN : cb_vec3_norm(m2.vector_area),
+              m.area, st ? err.msg : "");
+    }
     printf("%-17s %-8s pose %d: volume rel err %.2e, area %.2e, centroid %.2e, %.3f s\n",
            shape_name[shape], as_nurbs ? "B-spline" : "analytic", pose, ev, ea, ec, t);
     cb_topo_body_free(b);
@@ -274,6 +312,13 @@ static void check_model_props(const model_case *mc, const cb_topo_body *b, const
         return;
     double u = b->length_unit_mm, v = m.volume * u * u * u, a = m.area * u * u;
     double ev = fabs(v - mc->volume) / mc->volume, ea = fabs(a - mc->area) / mc->area;
+    /* closed up to the gaps the tolerance allows (the bound of cli/result.c) */
+    double len = 0;
+    for (int e = 0; e < b->n_edges; e++)
+        len += cb_topo_edge_length(b, e);
+    CHECK(cb_vec3_norm(m.vector_area) <= 2 * b->tol * len + 1e-9 * m.area,
+          "%s (%s): vector area %.3g, tolerance %g, edges %.6g long", mc->file, how,
+          cb_vec3_norm(m.vector_area), b->tol, len);
     CHECK(ev <= mc->volume_tol && ea <= 1e-6,
           "%s (%s): volume %.10g mm^3 (reference %.10g, rel %.3g), area %.10g mm^2 (reference "
           "%.10g, rel %.3g)",
