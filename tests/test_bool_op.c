@@ -50,6 +50,9 @@ static int touching_curve;
 /* The next check_op also writes its result as STEP, reads it back and checks it again: valid,
  * the same volume within 1e-9. */
 static int write_back;
+/* The next check_op does not mesh its result (a case whose tessellation is known to fail,
+ * said where it is set). */
+static int no_mesh;
 
 /* Runs op and checks the result: valid, its B-rep volume within rel of expected, and its mesh
  * (default tolerances) closed, manifold and free of self-intersections by CGAL (with
@@ -60,7 +63,8 @@ static void check_op(const char *name, cb_bool_op op, const cb_topo_body *A, con
                      double expected, double rel, double *volume)
 {
     int touching = touching_points, touching_line = touching_curve, back = write_back;
-    touching_points = touching_curve = write_back = 0;
+    int mesh_it = !no_mesh;
+    touching_points = touching_curve = write_back = no_mesh = 0;
     cb_topo_body *res = NULL;
     cb_bool_stats stats;
     cb_error err;
@@ -93,11 +97,11 @@ static void check_op(const char *name, cb_bool_op op, const cb_topo_body *A, con
     cb_mesh_t mesh;
     cb_mesh_init(mesh);
     cb_mesh_check_report cr;
-    st = res->n_faces ? cb_tess_body(mesh, res, NULL, NULL, &err) : CB_OK;
-    if (!st && res->n_faces)
+    st = res->n_faces && mesh_it ? cb_tess_body(mesh, res, NULL, NULL, &err) : CB_OK;
+    if (!st && res->n_faces && mesh_it)
         st = cb_mesh_check(&cr, mesh, &err);
     CHECK(st == CB_OK, "%s %s: mesh: %s", name, cb_bool_op_name(op), err.msg);
-    if (!st && res->n_faces)
+    if (!st && res->n_faces && mesh_it)
         CHECK(cr.closed && cr.edge_manifold && cr.nonmanifold_vertices == touching &&
                   cr.oriented &&
                   (touching || cr.self_intersections == (touching_line ? 1 : 0)),
@@ -105,7 +109,7 @@ static void check_op(const char *name, cb_bool_op op, const cb_topo_body *A, con
               "vertices, %d misoriented edges, self-intersections %d",
               name, cb_bool_op_name(op), cr.triangles, cr.boundary_edges, cr.nonmanifold_edges,
               cr.nonmanifold_vertices, cr.misoriented_edges, cr.self_intersections);
-    if (!st && res->n_faces && (touching || touching_line)) {
+    if (!st && res->n_faces && mesh_it && (touching || touching_line)) {
         cb_mesh_contacts c;
         st = cb_mesh_check_contacts(&c, mesh, res->tol, &err);
         CHECK(st == CB_OK && c.touching > 0 && c.crossing == 0,
@@ -1107,46 +1111,8 @@ static void test_occt_torus(void)
         const cb_bool_op ops[3] = {CB_BOOL_UNION, CB_BOOL_INTERSECTION, CB_BOOL_DIFFERENCE};
         const double want[3] = {mb.volume + vh, vh, vh};
         for (int k = 0; k < 3; k++) {
-            cb_topo_body *res = NULL, *back = NULL;
-            cb_bool_stats stats;
-            cb_bool_opts bo;
-            cb_bool_opts_init(&bo);
-            cb_error err;
-            cb_status st = cb_bool_run(&res, &stats, ops[k], H[0], H[1], &bo, NULL, &err);
-            CHECK(st == CB_OK, "torus half %s: %s", cb_bool_op_name(ops[k]), err.msg);
-            cb_topo_report r;
-            cb_topo_report_init(&r);
-            cb_mass_props m = {0}, m2 = {0};
-            if (!st) {
-                cb_status vs = cb_topo_validate(&r, res, res->tol, 9, &err);
-                CHECK(vs == CB_OK && r.n == 0, "torus half %s: not valid: %s",
-                      cb_bool_op_name(ops[k]), vs ? err.msg : r.n ? r.items[0] : "");
-                st = cb_mass_body(&m, res, 1e-10, NULL, &err);
-                CHECK(st == CB_OK && fabs(m.volume - want[k]) <= 1e-6 * want[k],
-                      "torus half %s: volume %.12g, closed form %.12g (%s)",
-                      cb_bool_op_name(ops[k]), st ? NAN : m.volume, want[k], st ? err.msg : "");
-            }
-            cb_topo_report_clear(&r);
-            if (!st) {
-                char path[1024];
-                const char *tmp = getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp";
-                snprintf(path, sizeof path, "%s/colibri_torus_half_%d.step", tmp, (int)getpid());
-                st = cb_step_write(res, path, "result", &err);
-                if (!st)
-                    st = cb_step_read(&back, path, &err);
-                if (!st)
-                    st = cb_mass_body(&m2, back, 1e-10, NULL, &err);
-                CHECK(st == CB_OK && fabs(m2.volume - m.volume) <= 1e-9 * m.volume,
-                      "torus half %s: read back: volume %.12g, %.12g before (%s)",
-                      cb_bool_op_name(ops[k]), st ? NAN : m2.volume, m.volume,
-                      st ? err.msg : "");
-                remove(path);
-            }
-            printf("torus half %-12s volume %.12g (rel %.2e), read back %.12g\n",
-                   cb_bool_op_name(ops[k]), m.volume, fabs(m.volume - want[k]) / want[k],
-                   m2.volume);
-            cb_topo_body_free(back);
-            cb_topo_body_free(res);
+            write_back = no_mesh = 1;
+            check_op("OCCT torus half", ops[k], H[0], H[1], want[k], 1e-6, NULL);
         }
     }
     cb_topo_body_free(H[0]);
