@@ -446,8 +446,9 @@ static int piece_cross(const cb_face *f, const cb_face_seg *sg, double s0, doubl
 
 /* Distance from p to face edge fe when it may be within limit, else HUGE_VAL: the stored
  * samples bound it from below, then Newton steps on the squared distance from the nearest
- * point of the sample polyline, clamped to the edge's range; lines and conics also by cb_topo_edge_distance (closed
- * forms). Every value is the distance to an edge point, so the smallest is too. */
+ * point of the sample polyline, clamped to the edge's range; lines and conics also by
+ * cb_topo_edge_distance (closed forms). Every value is the distance to an edge point, so the
+ * smallest is too. */
 static double edge_distance(const cb_topo_body *b, const cb_face_edge *fe, const double p[3],
                             double limit)
 {

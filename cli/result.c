@@ -99,8 +99,6 @@ void cb_cli_result_check(cb_cli_result *r, cb_topo_body *res, cb_mesh_t mesh,
             r->crossing = c.crossing;
         }
     }
-    /* A mesh that is open, or meets itself where the result does not only touch itself, is
-     * no picture of a solid. */
     /* The B-rep's volume against its mesh's: the mesh lies within the chordal tolerance of the
      * faces, so the two differ by at most about that times the area. A larger difference
      * (a face integrated over the wrong side of its loops: the volume's sign turned) makes
@@ -122,6 +120,8 @@ void cb_cli_result_check(cb_cli_result *r, cb_topo_body *res, cb_mesh_t mesh,
                      r->volume, mv, bound);
         }
     }
+    /* A mesh that is open, or meets itself where the result does not only touch itself, is
+     * no picture of a solid. */
     r->mesh_ok = r->mesh_done && r->closed &&
                  ((r->manifold && r->self_intersections == 0) || r->touching);
     if (r->valid && !r->mesh_ok) {
