@@ -42,8 +42,8 @@
  * whose faces do not cancel each other out. Bounds on the work: an interval stops being bisected
  * when its error estimate is within the noise of the integrand's values, at depth 30, or after
  * 4000 bisections per integral; the result is then returned as it stands, without a warning.
- * A face whose inner integrals together take more than 6e6 bisections (about 30 s; the faces
- * of the Boolean corpus take at most 3.1e6) fails with CB_ERR_NUMERIC naming it.
+ * A face whose inner integrals together take more than 6e6 bisections (about 30 s; an
+ * ellipsoid cap's face of the Boolean corpus takes 3.1e6) fails with CB_ERR_NUMERIC naming it.
  *
  * Faces run in parallel (cb_parallel_for, ctx->threads) and are summed in face order, so the
  * results are bit-identical for any thread count. Progress is the fraction of faces done
