@@ -115,10 +115,10 @@ cb_status cb_mesh_check(cb_mesh_check_report *r, const cb_mesh_t m, cb_error *er
     return cb_tess_check_cgal(r, m, err);
 }
 
-cb_status cb_mesh_check_contacts(cb_mesh_contacts *c, const cb_mesh_t m, double eps,
-                                 cb_error *err)
+/* CB_OK when m is closed, edge-manifold and consistently oriented and eps a positive distance,
+ * as the contact checks need. */
+static cb_status contacts_ready(const cb_mesh_t m, double eps, cb_error *err)
 {
-    c->touching = c->crossing = -1;
     if (!(eps > 0) || !isfinite(eps))
         return cb_error_set(err, CB_ERR_INVALID, "mesh contacts: eps %g is not a positive distance",
                             eps);
@@ -135,7 +135,32 @@ cb_status cb_mesh_check_contacts(cb_mesh_contacts *c, const cb_mesh_t m, double 
                             "(%d triangles; %d boundary, %d non-manifold, %d misoriented edges)",
                             m->n_triangles, r.boundary_edges, r.nonmanifold_edges,
                             r.misoriented_edges);
-    return cb_tess_check_cgal_contacts(&c->touching, &c->crossing, m, eps, err);
+    return CB_OK;
+}
+
+cb_status cb_mesh_check_contacts(cb_mesh_contacts *c, const cb_mesh_t m, double eps,
+                                 cb_error *err)
+{
+    c->touching = c->crossing = -1;
+    cb_status st = contacts_ready(m, eps, err);
+    return st ? st : cb_tess_check_cgal_contacts(&c->touching, &c->crossing, NULL, m, eps, err);
+}
+
+cb_status cb_mesh_check_crossings(int **pairs, int *n_pairs, const cb_mesh_t m, double eps,
+                                  cb_error *err)
+{
+    *pairs = NULL;
+    *n_pairs = 0;
+    int touching;
+    cb_status st = contacts_ready(m, eps, err);
+    if (!st)
+        st = cb_tess_check_cgal_contacts(&touching, n_pairs, pairs, m, eps, err);
+    if (st) {
+        free(*pairs);
+        *pairs = NULL;
+        *n_pairs = 0;
+    }
+    return st;
 }
 
 int cb_mesh_check_passed(const cb_mesh_check_report *r)

@@ -52,11 +52,17 @@ cb_status cb_mesh_check(cb_mesh_check_report *r, const cb_mesh_t m, cb_error *er
  * predicates, PMP::self_intersections) is
  *   touching: every point of their intersection lies within eps of an edge of each (checked
  *             at the corners of the intersection and the midpoints of its sides): they meet
- *             along their edges or at their corners;
+ *             along their edges or at their corners; or it lies within eps of an edge of one
+ *             whose triangles there stay on one side of the other's plane; or they cross by
+ *             no more than eps: the corners of one on the lesser side of the other's plane
+ *             lie within eps of it (two surfaces touching lie within the tolerance of each
+ *             other over a band round the contact, where their meshes may cross by that
+ *             much; surfaces crossing at an angle cut through the insides of triangles);
  *   crossing: otherwise: one cuts through the inside of the other, they overlap in a common
  *             plane, or a triangle is degenerate.
  * eps is a distance in the mesh's units: how far apart the mesh may carry one curve along which
- * two parts meet (e.g. the B-rep's largest edge tolerance). */
+ * two parts meet, and how far two touching parts may overlap (e.g. the B-rep's largest edge
+ * tolerance). */
 typedef struct {
     int touching, crossing; /* pairs of triangles */
 } cb_mesh_contacts;
@@ -66,6 +72,12 @@ typedef struct {
  * cb_mesh_check. */
 cb_status cb_mesh_check_contacts(cb_mesh_contacts *c, const cb_mesh_t m, double eps,
                                  cb_error *err);
+
+/* The crossing pairs of cb_mesh_check_contacts themselves: triangles (*pairs)[2k] and
+ * (*pairs)[2k + 1], k < *n_pairs, in a malloc'ed array the caller frees (NULL when none).
+ * Errors as cb_mesh_check_contacts, with *pairs NULL and *n_pairs 0. */
+cb_status cb_mesh_check_crossings(int **pairs, int *n_pairs, const cb_mesh_t m, double eps,
+                                  cb_error *err);
 
 /* 1 when r says the mesh is a closed, manifold, outward-oriented, self-intersection-free
  * triangle mesh bounding a volume, else 0. */

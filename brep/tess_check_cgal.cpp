@@ -15,6 +15,7 @@ extern "C" {
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <exception>
 #include <iterator>
 #include <new>
@@ -187,16 +188,36 @@ struct Contacts {
         }
         if (on_a && on_b)
             return true;
-        if (on_a)
-            return one_side(fa, fb, corners);
-        if (on_b)
-            return one_side(fb, fa, corners);
-        return false;
+        if (on_a && one_side(fa, fb, corners))
+            return true;
+        if (on_b && one_side(fb, fa, corners))
+            return true;
+        return shallow(a, b) || shallow(b, a);
+    }
+
+    // The corners of a on the lesser side of b's plane lie within eps of it: moving them by
+    // at most eps onto the plane undoes the crossing. Where two surfaces touch, they lie
+    // within the tolerance of each other over a band round the contact, and their meshes
+    // may cross there by that much; a crossing of surfaces at an angle cuts through the
+    // inside of triangles, far deeper.
+    bool shallow(const Exact::Triangle_3 &a, const Exact::Triangle_3 &b) const
+    {
+        Exact::Plane_3 pb = b.supporting_plane();
+        double above = 0, below = 0;
+        for (int k = 0; k < 3; k++) {
+            double d = std::sqrt(CGAL::to_double(CGAL::squared_distance(pb, a.vertex(k))));
+            switch (pb.oriented_side(a.vertex(k))) {
+            case CGAL::ON_POSITIVE_SIDE: above = std::max(above, d); break;
+            case CGAL::ON_NEGATIVE_SIDE: below = std::max(below, d); break;
+            default: break;
+            }
+        }
+        return std::min(above, below) <= eps;
     }
 };
 
-cb_status contacts(int *touching, int *crossing, const cb_mesh_struct *m, double eps,
-                   cb_error *err)
+cb_status contacts(int *touching, int *crossing, std::vector<int> *pairs_out,
+                   const cb_mesh_struct *m, double eps, cb_error *err)
 {
     std::vector<Point> points;
     std::vector<std::array<std::size_t, 3>> triangles;
@@ -210,22 +231,47 @@ cb_status contacts(int *touching, int *crossing, const cb_mesh_struct *m, double
                             "mesh contacts: CGAL does not accept the mesh as a polygon mesh");
     Mesh mesh;
     PMP::polygon_soup_to_polygon_mesh(points, triangles, mesh);
+    // Faces are made in the soup's order (orienting turns polygons, never reorders them), so
+    // a face's index is the triangle's.
+    if (mesh.number_of_faces() != triangles.size())
+        return cb_error_set(err, CB_ERR_INVALID,
+                            "mesh contacts: CGAL made %zu faces of %zu triangles",
+                            (size_t)mesh.number_of_faces(), triangles.size());
     std::vector<std::pair<Face, Face>> pairs;
     PMP::self_intersections(mesh, std::back_inserter(pairs));
     Contacts c{mesh, eps, To_exact()};
     *touching = *crossing = 0;
-    for (const auto &fp : pairs)
-        ++*(c.touch(fp.first, fp.second) ? touching : crossing);
+    for (const auto &fp : pairs) {
+        bool t = c.touch(fp.first, fp.second);
+        ++*(t ? touching : crossing);
+        if (!t && pairs_out) {
+            int a = (int)(std::size_t)fp.first, b = (int)(std::size_t)fp.second;
+            pairs_out->push_back(std::min(a, b));
+            pairs_out->push_back(std::max(a, b));
+        }
+    }
     return CB_OK;
 }
 
 } // namespace
 
 extern "C" cb_status cb_tess_check_cgal_contacts(int *touching, int *crossing,
-                                                 const cb_mesh_t m, double eps, cb_error *err)
+                                                 int **crossing_pairs, const cb_mesh_t m,
+                                                 double eps, cb_error *err)
 {
     try {
-        return contacts(touching, crossing, m, eps, err);
+        if (!crossing_pairs)
+            return contacts(touching, crossing, nullptr, m, eps, err);
+        *crossing_pairs = nullptr;
+        std::vector<int> pairs;
+        cb_status st = contacts(touching, crossing, &pairs, m, eps, err);
+        if (st || pairs.empty())
+            return st;
+        *crossing_pairs = static_cast<int *>(std::malloc(pairs.size() * sizeof(int)));
+        if (!*crossing_pairs)
+            return cb_error_set(err, CB_ERR_NOMEM, "mesh contacts: out of memory");
+        std::copy(pairs.begin(), pairs.end(), *crossing_pairs);
+        return CB_OK;
     } catch (const std::bad_alloc &) {
         return cb_error_set(err, CB_ERR_NOMEM, "mesh contacts: out of memory in CGAL");
     } catch (const std::exception &e) {

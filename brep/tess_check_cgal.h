@@ -15,9 +15,11 @@ cb_status cb_tess_check_cgal(cb_mesh_check_report *r, const cb_mesh_t m, cb_erro
 
 /* Counts the pairs of triangles of m that CGAL finds intersecting (exact predicates), after
  * giving each fan of triangles around a vertex its own copy of it, as touching or crossing
- * (cb_mesh_check_contacts). m is closed, edge-manifold and consistently oriented (the caller
- * checked). Errors as cb_tess_check_cgal. */
-cb_status cb_tess_check_cgal_contacts(int *touching, int *crossing, const cb_mesh_t m, double eps,
-                                      cb_error *err);
+ * (cb_mesh_check_contacts). With crossing_pairs, also the crossing pairs: 2 * *crossing
+ * triangle indices in a malloc'ed array (NULL when none; the caller frees it), in CGAL's
+ * order. m is closed, edge-manifold and consistently oriented (the caller checked). Errors as
+ * cb_tess_check_cgal. */
+cb_status cb_tess_check_cgal_contacts(int *touching, int *crossing, int **crossing_pairs,
+                                      const cb_mesh_t m, double eps, cb_error *err);
 
 #endif
