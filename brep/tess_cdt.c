@@ -77,6 +77,7 @@ static void set_tri(cb_tess_cdt *d, int t, int a, int b, int c)
     T->v[0] = a;
     T->v[1] = b;
     T->v[2] = c;
+    T->settled = 0;
     d->vt[a] = d->vt[b] = d->vt[c] = t;
 }
 
@@ -85,9 +86,11 @@ static void link(cb_tess_cdt *d, int t, int i, int u, int j, unsigned char const
 {
     d->t[t].n[i] = u;
     d->t[t].c[i] = constrained;
+    d->t[t].settled = 0;
     if (u >= 0) {
         d->t[u].n[j] = t;
         d->t[u].c[j] = constrained;
+        d->t[u].settled = 0;
     }
 }
 
@@ -412,9 +415,12 @@ static int find_edge(const cb_tess_cdt *d, int a, int b, int *tri, int *side)
 static void mark(cb_tess_cdt *d, int t, int i)
 {
     d->t[t].c[i] = 1;
+    d->t[t].settled = 0;
     int u = d->t[t].n[i];
-    if (u >= 0)
+    if (u >= 0) {
         d->t[u].c[side_towards(d, u, t)] = 1;
+        d->t[u].settled = 0;
+    }
 }
 
 /* Whether segment p-q crosses segment a-b at a point interior to both. */

@@ -5,6 +5,7 @@
 
 #include "brep/geom.h"
 #include "brep/tess.h"
+#include "brep/tess_internal.h"
 
 void cb_tess_opts_init(cb_tess_opts *o)
 {
@@ -87,6 +88,8 @@ typedef struct {
     const cb_tess_opts *o;
     side_curve side[4];
     int n_sides;
+    const cb_tess_zone *zones; /* of the faces using the edge */
+    int n_zones;
 } edge_job;
 
 /* Largest distance between the surface image of the (u, v) midpoint of a piece of pcurve and
@@ -133,9 +136,14 @@ static int too_coarse(const edge_job *j, double ta, double tb)
     cb_topo_curve_eval_derivs(db, c, tb);
     if (o->max_edge > 0 && cb_vec3_dist(da[0], db[0]) > o->max_edge)
         return 1;
+    double tol = o->chord_tol, lambda;
+    for (int z = 0; z < j->n_zones; z++)
+        if (j->zones[z].chord_tol < tol &&
+            cb_seg3_nearest(&lambda, da[0], db[0], j->zones[z].c) <= j->zones[z].r)
+            tol = j->zones[z].chord_tol;
     for (int k = 1; k <= 3; k++) {
         cb_topo_curve_eval(p, c, ta + (tb - ta) * k / 4);
-        if (line_distance(p, da[0], db[0]) > o->chord_tol)
+        if (line_distance(p, da[0], db[0]) > tol)
             return 1;
     }
     double na = cb_vec3_norm(da[1]), nb = cb_vec3_norm(db[1]);
@@ -145,7 +153,7 @@ static int too_coarse(const edge_job *j, double ta, double tb)
             return 1;
     }
     double min_cos;
-    return side_deviation(j, ta, tb, &min_cos) > o->chord_tol ||
+    return side_deviation(j, ta, tb, &min_cos) > tol ||
            (min_cos < cos(o->angle_tol) && cb_vec3_dist(da[0], db[0]) > 2 * o->chord_tol);
 }
 
@@ -217,6 +225,13 @@ static char *parallel_edges(const cb_topo_body *b)
 cb_status cb_tess_edges_sample(cb_tess_edges *es, const cb_topo_body *b, const cb_tess_opts *o,
                                cb_context *ctx, cb_error *err)
 {
+    return cb_tess_edges_sample_zoned(es, b, o, NULL, 0, ctx, err);
+}
+
+cb_status cb_tess_edges_sample_zoned(cb_tess_edges *es, const cb_topo_body *b,
+                                     const cb_tess_opts *o, const cb_tess_zone *zones,
+                                     int n_zones, cb_context *ctx, cb_error *err)
+{
     cb_tess_edges_clear(es);
     es->n_edges = b->n_edges;
     es->start = malloc((size_t)(b->n_edges + 1) * sizeof(int));
@@ -225,6 +240,7 @@ cb_status cb_tess_edges_sample(cb_tess_edges *es, const cb_topo_body *b, const c
     char *parallel = NULL;
     int n_inv = 0;
     cb_status st;
+    cb_tess_zone *mine = NULL; /* the zones of the edge being sampled */
     int cap_xyz = b->n_vertices + 16;
     es->xyz = malloc((size_t)cap_xyz * 3 * sizeof(double));
     if (!es->start || !es->xyz)
@@ -237,7 +253,8 @@ cb_status cb_tess_edges_sample(cb_tess_edges *es, const cb_topo_body *b, const c
     if (!parallel)
         goto nomem;
     inv = calloc((size_t)b->n_faces + 1, sizeof(cb_topo_inverter));
-    if (!inv)
+    mine = malloc(((size_t)n_zones + 1) * sizeof *mine);
+    if (!inv || !mine)
         goto nomem;
     for (; n_inv < b->n_faces; n_inv++)
         if ((st = cb_topo_inverter_init(&inv[n_inv], &b->surfaces[b->faces[n_inv].surface],
@@ -259,7 +276,13 @@ cb_status cb_tess_edges_sample(cb_tess_edges *es, const cb_topo_body *b, const c
             if (!tlist_push(&all, E->t1))
                 goto nomem;
         } else {
-            edge_job j = {c, o, {{0}}, 0};
+            edge_job j = {c, o, {{0}}, 0, mine, 0};
+            for (int z = 0; z < n_zones; z++)
+                for (int k = b->edge_start[e]; k < b->edge_start[e + 1]; k++)
+                    if (b->loops[b->coedges[b->edge_coedges[k]].loop].face == zones[z].face) {
+                        mine[j.n_zones++] = zones[z];
+                        break;
+                    }
             for (int k = b->edge_start[e]; k < b->edge_start[e + 1] && j.n_sides < 4; k++) {
                 int co = b->edge_coedges[k];
                 const cb_topo_coedge *C = &b->coedges[co];
@@ -316,6 +339,7 @@ nomem:
 fail:
     cb_tess_edges_clear(es);
 done:
+    free(mine);
     free(parallel);
     free(all.t);
     for (int f = 0; f < n_inv; f++)

@@ -310,10 +310,13 @@ typedef struct {
     int cap;
     const pole_line *poles; /* scaled (u, v) */
     int n_poles;
+    cb_tess_zone *zones; /* this face's, where the chordal tolerance is tighter */
+    int n_zones;
 } face_work;
 
 static void work_clear(face_work *w)
 {
+    free(w->zones);
     cb_tess_cdt_clear(&w->d);
     free(w->gid);
     free(w->xyz);
@@ -609,14 +612,23 @@ static int split_side(const face_work *w, int t)
     for (int k = 0; k < 3; k++)
         N[k] *= w->sign;
     double c[2] = {(X[0][0] + X[1][0] + X[2][0]) / 3, (X[0][1] + X[1][1] + X[2][1]) / 3};
-    if (chord_error(w, c, P[0], P[1], P[2]) > w->o->chord_tol)
+    double tol = w->o->chord_tol;
+    for (int z = 0; z < w->n_zones; z++) {
+        const cb_tess_zone *Z = &w->zones[z];
+        /* The triangle lies within `longest` of its corner: far zones are passed over at
+         * the price of one distance. */
+        if (Z->chord_tol < tol && cb_vec3_dist(Z->c, P[0]) <= Z->r + longest &&
+            triangle_distance(Z->c, P[0], P[1], P[2]) <= Z->r)
+            tol = Z->chord_tol;
+    }
+    if (chord_error(w, c, P[0], P[1], P[2]) > tol)
         return 3;
     for (int k = 0; k < 3; k++) {
         if (T->c[k])
             continue;
         int i = (k + 1) % 3, j = (k + 2) % 3;
         double m[2] = {0.5 * (X[i][0] + X[j][0]), 0.5 * (X[i][1] + X[j][1])};
-        if (chord_error(w, m, P[i], P[j], NULL) > w->o->chord_tol)
+        if (chord_error(w, m, P[i], P[j], NULL) > tol)
             return 3;
     }
     /* Its normal is not tested when it is narrower (its smallest height) than min_normal_width:
@@ -657,9 +669,14 @@ static cb_status refine(face_work *w, cb_context *ctx, cb_error *err)
         }
         int n = 0;
         for (int t = 0; t < w->d.nt; t++) {
-            int side = w->d.t[t].in ? split_side(w, t) : -1;
-            if (side < 0)
+            /* A triangle kept in an earlier pass and not changed since is kept again. */
+            if (!w->d.t[t].in || w->d.t[t].settled)
                 continue;
+            int side = split_side(w, t);
+            if (side < 0) {
+                w->d.t[t].settled = 1;
+                continue;
+            }
             if (n == cap) {
                 cap = cap ? 2 * cap : 256;
                 double *nc = realloc(cand, (size_t)cap * 2 * sizeof(double));
@@ -827,7 +844,8 @@ static cb_status emit(cb_tess_face_mesh *fm, const face_work *w, int n_shared, i
 }
 
 static cb_status face_run(cb_tess_face_mesh *fm, const cb_topo_body *b, int face,
-                          const cb_tess_edges *es, const cb_tess_opts *o, cb_context *ctx,
+                          const cb_tess_edges *es, const cb_tess_opts *o,
+                          const cb_tess_zone *zones, int n_zones, cb_context *ctx,
                           const cb_topo_inverter *inv, cb_error *err)
 {
     const cb_topo_face *F = &b->faces[face];
@@ -854,13 +872,20 @@ static cb_status face_run(cb_tess_face_mesh *fm, const cb_topo_body *b, int face
         w.es_xyz = es->xyz;
         w.es = es;
         w.face = face;
+        w.zones = n_zones ? malloc((size_t)n_zones * sizeof *w.zones) : NULL;
+        if (n_zones && !w.zones)
+            st = cb_error_set(err, CB_ERR_NOMEM, "out of memory");
+        for (int z = 0; z < n_zones && !st; z++)
+            if (zones[z].face == face)
+                w.zones[w.n_zones++] = zones[z];
         w.sign = F->same_sense ? 1 : -1;
         w.cos_tol = cos(o->angle_tol);
         /* Below the chordal tolerance a normal error is invisible, and chasing one across a
          * crease of the surface (a C0 knot line) would never end. */
         w.min_side = 0.1 * o->chord_tol;
         w.min_normal_width = 2 * o->chord_tol;
-        st = densify_poles(&L, inv, o->angle_tol, fmax(o->chord_tol, b->tol), err);
+        if (!st)
+            st = densify_poles(&L, inv, o->angle_tol, fmax(o->chord_tol, b->tol), err);
         for (int k = 0; k < L.n_poles; k++) {
             pole_line *pl = &L.poles[k];
             pl->a[0] *= w.su;
@@ -890,6 +915,14 @@ cb_status cb_tess_face(cb_tess_face_mesh *fm, const cb_topo_body *b, int face,
                        const cb_tess_edges *es, const cb_tess_opts *o, cb_context *ctx,
                        cb_error *err)
 {
+    return cb_tess_face_zoned(fm, b, face, es, o, NULL, 0, ctx, err);
+}
+
+cb_status cb_tess_face_zoned(cb_tess_face_mesh *fm, const cb_topo_body *b, int face,
+                             const cb_tess_edges *es, const cb_tess_opts *o,
+                             const cb_tess_zone *zones, int n_zones, cb_context *ctx,
+                             cb_error *err)
+{
     cb_tess_face_mesh_clear(fm);
     if (face < 0 || face >= b->n_faces)
         return cb_error_set(err, CB_ERR_INVALID, "tessellation: face %d out of range [0, %d)",
@@ -901,7 +934,7 @@ cb_status cb_tess_face(cb_tess_face_mesh *fm, const cb_topo_body *b, int face,
     cb_topo_inverter inv;
     cb_status st = cb_topo_inverter_init(&inv, &b->surfaces[b->faces[face].surface], b->tol, err);
     if (!st) {
-        st = face_run(fm, b, face, es, o, ctx, &inv, err);
+        st = face_run(fm, b, face, es, o, zones, n_zones, ctx, &inv, err);
         cb_topo_inverter_clear(&inv);
     }
     if (st) {

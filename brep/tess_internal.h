@@ -4,6 +4,7 @@
 #define CB_TESS_INTERNAL_H
 
 #include "brep/status.h"
+#include "brep/tess.h"
 
 /* Sign of the orientation of (a, b, c): > 0 counter-clockwise, < 0 clockwise, 0 collinear.
  * Exact for any finite input: a floating-point filter, then an exact expansion sum of the
@@ -27,6 +28,8 @@ typedef struct {
     int n[3];
     unsigned char c[3];
     unsigned char in; /* inside the domain, after cb_tess_cdt_classify */
+    unsigned char settled; /* for the refiner: tested and kept; cleared whenever the corners
+                              or the constraints change */
 } cb_tess_tri;
 
 /* Points 0..2 are the corners of an enclosing triangle; the caller's points follow. */
@@ -72,5 +75,29 @@ void cb_tess_cdt_delaunay(cb_tess_cdt *d);
  * crosses an odd number of constrained edges (nested loops alternate, whatever their
  * direction). CB_ERR_NOMEM. */
 cb_status cb_tess_cdt_classify(cb_tess_cdt *d, cb_error *err);
+
+/* ---------------------------------------------------------------- contact zones ------------ */
+
+/* A place where face `face`'s mesh must follow its surface more closely than the body's
+ * chordal tolerance: its triangles, and the pieces of its edges, within r of c are refined
+ * until their chordal error is at most chord_tol. cb_tess_body sets them where the meshes of
+ * two faces cross although the faces only touch (a void touching its wall): there a chord
+ * of one surface, within the tolerance of it, can reach past the other. */
+typedef struct {
+    double c[3], r, chord_tol;
+    int face;
+} cb_tess_zone;
+
+/* cb_tess_edges_sample with zones[0 .. n_zones) (NULL, 0: none): an edge is refined in the
+ * zones of the faces that use it. */
+cb_status cb_tess_edges_sample_zoned(cb_tess_edges *es, const cb_topo_body *b,
+                                     const cb_tess_opts *o, const cb_tess_zone *zones,
+                                     int n_zones, cb_context *ctx, cb_error *err);
+
+/* cb_tess_face with the zones of this face among zones[0 .. n_zones) (NULL, 0: none). */
+cb_status cb_tess_face_zoned(cb_tess_face_mesh *fm, const cb_topo_body *b, int face,
+                             const cb_tess_edges *es, const cb_tess_opts *o,
+                             const cb_tess_zone *zones, int n_zones, cb_context *ctx,
+                             cb_error *err);
 
 #endif
