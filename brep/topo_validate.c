@@ -176,14 +176,19 @@ static cb_status check_loops(cb_topo_report *r, const cb_topo_body *b, double to
     return st;
 }
 
-/* Samples of every edge against the surfaces of the faces using it. */
+/* Samples of every edge against the surfaces of the faces using it: the smaller of the
+ * projector's distance and the point inversion's (cb_topo_inverter), both distances to a
+ * point of the surface. The inversion follows a closed B-spline surface's parameter across
+ * its seam, where the projector's search, clamped to the domain, stalls (0.27 off for an edge
+ * on a B-spline torus' seam); the projector's closed forms round less far from the origin
+ * (a plane at 1e12: 1.7e-4 against 4.8e-4). */
 static cb_status check_on_surfaces(cb_topo_report *r, const cb_topo_body *b, double tol,
                                    int n_samples, cb_error *err)
 {
-    cb_topo_projector *pr = calloc((size_t)b->n_surfaces + 1, sizeof *pr);
+    cb_topo_inverter *inv = calloc((size_t)b->n_surfaces + 1, sizeof *inv);
     char *ready = calloc((size_t)b->n_surfaces + 1, 1);
     cb_status st = CB_OK;
-    if (!pr || !ready)
+    if (!inv || !ready)
         st = cb_error_set(err, CB_ERR_NOMEM, "validation: out of memory");
     if (n_samples < 2)
         n_samples = 2;
@@ -191,7 +196,7 @@ static cb_status check_on_surfaces(cb_topo_report *r, const cb_topo_body *b, dou
         const cb_topo_face *fc = &b->faces[f];
         int s = fc->surface;
         if (!ready[s]) {
-            if ((st = cb_topo_projector_init(&pr[s], &b->surfaces[s], err)))
+            if ((st = cb_topo_inverter_init(&inv[s], &b->surfaces[s], b->tol, err)))
                 break;
             ready[s] = 1;
         }
@@ -201,10 +206,11 @@ static cb_status check_on_surfaces(cb_topo_report *r, const cb_topo_body *b, dou
                 const cb_topo_edge *ed = &b->edges[e];
                 double worst = 0;
                 for (int k = 0; k < n_samples; k++) {
-                    double p[3];
+                    double p[3], uv[2];
                     cb_topo_curve_eval(p, &b->curves[ed->curve],
                                        ed->t0 + (ed->t1 - ed->t0) * k / (n_samples - 1));
-                    worst = fmax(worst, cb_topo_projector_distance(&pr[s], p));
+                    worst = fmax(worst, fmin(cb_topo_projector_distance(&inv[s].pr, p),
+                                             cb_topo_inverter_invert(uv, &inv[s], p, NULL)));
                 }
                 r->max_edge_surface = fmax(r->max_edge_surface, worst);
                 if (worst > edge_tol(b, e, tol))
@@ -212,10 +218,10 @@ static cb_status check_on_surfaces(cb_topo_report *r, const cb_topo_body *b, dou
                                  cb_topo_surface_type_name(&b->surfaces[s]), f);
             }
     }
-    for (int s = 0; pr && ready && s < b->n_surfaces; s++)
+    for (int s = 0; inv && ready && s < b->n_surfaces; s++)
         if (ready[s])
-            cb_topo_projector_clear(&pr[s]);
-    free(pr);
+            cb_topo_inverter_clear(&inv[s]);
+    free(inv);
     free(ready);
     return st;
 }
