@@ -656,7 +656,11 @@ static cb_status face_integrate(face_result *res, const cb_topo_body *b, int f, 
             coedge_node(e->end, d, &w, &e->map, e->s1);
             if (k > first) {
                 const double *p = ci[k - 1].end;
-                if (cb_topo_inverter_spread(&inv, p, e->start) > gap_tol) {
+                /* Lifted only where the joint as it is does not close on the surface within
+                 * the edges' tolerance: two coedges ending a little off a pole (a traced
+                 * meridian) meet across the pole line either way round, and a lift by the
+                 * nearest whole period (half a period away) made the loop wind around it. */
+                if (cb_topo_inverter_spread(&inv, p, e->start) > joint_tol(b, cc - 1, cc, gap_tol)) {
                     for (int i = 0; i < 2; i++)
                         if (inv.lift[i] > 0)
                             e->map.off[i] = inv.lift[i] * round((p[i] - e->start[i]) / inv.lift[i]);
@@ -679,10 +683,12 @@ static cb_status face_integrate(face_result *res, const cb_topo_body *b, int f, 
                 hi[i] = fmax(hi[i], fmax(e->start[i], e->end[i]));
             }
         }
-        /* Closure: the loop ends where it started, or whole periods away (around a period). */
+        /* Closure: the loop ends where it started, or whole periods away (around a period);
+         * as above, it winds only where it does not close as it is. */
         int li = l - fa->first;
         const double *p = ci[k - 1].end, *q = ci[first].start;
-        if (cb_topo_inverter_spread(&inv, p, q) > gap_tol) {
+        int c_last = lp->first + lp->count - 1;
+        if (cb_topo_inverter_spread(&inv, p, q) > joint_tol(b, c_last, lp->first, gap_tol)) {
             double q2[2];
             for (int i = 0; i < 2; i++) {
                 wrap[2 * li + i] =
@@ -690,8 +696,7 @@ static cb_status face_integrate(face_result *res, const cb_topo_body *b, int f, 
                 q2[i] = q[i] + wrap[2 * li + i] * inv.period[i];
                 any_wrap[i] |= wrap[2 * li + i] != 0;
             }
-            if (cb_topo_inverter_spread(&inv, p, q2) >
-                joint_tol(b, lp->first + lp->count - 1, lp->first, gap_tol)) {
+            if (cb_topo_inverter_spread(&inv, p, q2) > joint_tol(b, c_last, lp->first, gap_tol)) {
                 st = cb_error_set(err, CB_ERR_INVALID,
                                   "mass: face %d: loop %d does not close in (u, v)", f, l);
                 goto done;
