@@ -475,14 +475,20 @@ static cb_status split_t_junctions(builder *bd, op_face *faces, int n_faces,
                 pr->region = ri;
                 pr->piece = k;
                 pr->g = g;
-                double q[27];
-                for (int j = 0; j <= 8; j++)
+                /* The box of 9 samples, grown by half the longest chord between them: the
+                 * curve bulges past its samples (a circle's lowest point between two of them,
+                 * where another face's cut ended, was outside the box and was never split). */
+                double q[27], chord = 0;
+                for (int j = 0; j <= 8; j++) {
                     cb_topo_curve_eval(q + 3 * j, g.curve,
                                        g.t_start + (g.t_end - g.t_start) * j / 8);
+                    if (j)
+                        chord = fmax(chord, dist3(q + 3 * j, q + 3 * j - 3));
+                }
                 cb_aabb_of_points(&pr->box, q, 9, 3);
                 for (int i = 0; i < 3; i++) {
-                    pr->box.lo[i] -= bd->weld;
-                    pr->box.hi[i] += bd->weld;
+                    pr->box.lo[i] -= bd->weld + 0.5 * chord;
+                    pr->box.hi[i] += bd->weld + 0.5 * chord;
                 }
             }
         }

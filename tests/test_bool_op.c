@@ -565,6 +565,19 @@ static void test_contacts(int as_nurbs)
         check_op(name, CB_BOOL_UNION, A, L, 8 + PI, 1e-6, NULL);
         check_op(name, CB_BOOL_INTERSECTION, A, L, 0, 1e-6, NULL);
         check_op(name, CB_BOOL_DIFFERENCE, A, L, 8, 1e-6, NULL);
+        /* One end on the box: the line of contact ends on that end's circle, at its lowest
+         * point, between the samples a box round the circle was once made of (the seam turned
+         * off the top by a generic angle). */
+        const double oe[3] = {0.5, 1, 2.5}, ref[3] = {0, 0.6, 0.8};
+        cb_topo_body *E = cylinder(oe, x, ref, 0.5, 3, as_nurbs);
+        if (E) {
+            snprintf(name, sizeof name, "cylinder with an end on a box%s", as_nurbs ? " NURBS" : "");
+            touching_curve = 1;
+            check_op(name, CB_BOOL_UNION, A, E, 8 + 0.75 * PI, 1e-6, NULL);
+            check_op(name, CB_BOOL_INTERSECTION, A, E, 0, 1e-6, NULL);
+            check_op(name, CB_BOOL_DIFFERENCE, A, E, 8, 1e-6, NULL);
+        }
+        cb_topo_body_free(E);
         cb_error err;
         cb_status st = cb_bool_run(&H, NULL, CB_BOOL_DIFFERENCE, A, P, NULL, NULL, &err);
         CHECK(st == CB_OK, "box with a hole: %s", err.msg);
