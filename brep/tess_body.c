@@ -229,10 +229,10 @@ static int reaches_past(const cb_mesh_t m, int t, int f, int u, int g, const cb_
 }
 
 /* Adds a zone of face f round `at`, of radius r, at chordal tolerance tol, unless one as
- * tight already holds it. (Round the centroid of a triangle found reaching past, as far as
- * its longest side: its neighbours' chords, and its face's edges there, reach past too.
- * Zones round the points found past, or smaller, were seen to miss them: the crossings moved
- * beside the zones, round by round.) */
+ * tight already holds it. (settle_contacts puts it round the centroid of a triangle found
+ * reaching past, as far as its longest side: its neighbours' chords, and its face's edges
+ * there, reach past too. Zones round the points found past were seen to miss them: the
+ * crossings moved beside the zones, round by round.) */
 static cb_status add_zone(cb_tess_zone **zs, int *n, int *cap, const double at[3], double r,
                           int f, double tol, cb_error *err)
 {
