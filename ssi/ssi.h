@@ -42,10 +42,11 @@
  *
  * Analytic/analytic pairs (ssi_analytic.c): closed forms for the special positions (planes,
  * parallel or coaxial or tangent cylinders, coaxial surfaces of revolution incl. every
- * plane/sphere and sphere/sphere pair, planes through a cone's apex, touching points), decided
- * within tol (distances) and tol / size (directions); the rest by the general route: one
- * surface as its exact rational B-spline against the other's implicit equation (the
- * analytic/NURBS pipeline, certified topology), parameters mapped back to the analytic surface.
+ * plane/sphere and sphere/sphere pair, planes through a cone's apex or a torus' axis,
+ * touching points), decided within tol (distances) and tol / size (directions); the rest by
+ * the general route: one surface as its exact rational B-spline against the other's implicit
+ * equation (the analytic/NURBS pipeline, certified topology), parameters mapped back to the
+ * analytic surface.
  *
  * B-spline faces proved to lie within a thousandth of the tolerance of a plane, cylinder, sphere
  * or cone (any net, knots and parameterisation: a candidate fitted to samples, then a Bernstein

@@ -840,6 +840,31 @@ static void pp_cyl_sphere(plan *P, const actx *g, const cb_analytic_surface *cy,
     P->general = 1;
 }
 
+/* Plane / torus with the torus' axis in the plane (within ta and tol): the two meridian
+ * circles of radius r about the centre's points at distance R along the plane, in the
+ * plane; 0 when the plane does not hold the axis. (The general route puts these circles on
+ * the lines between its rational patches, quarter turns about the axis when the plane is
+ * placed with the torus' frame: traced on both sides of such a line, they came out stitched
+ * with spurs doubling back.) */
+static int pp_plane_meridian(plan *P, const actx *g, const cb_analytic_surface *pl,
+                             const cb_analytic_surface *to, double ta)
+{
+    const double *n = pl->frame.z, *z = to->frame.z;
+    double w[3], e[3];
+    sub(w, to->frame.o, pl->frame.o);
+    if (fabs(dot(n, z)) > ta || fabs(dot(n, w)) > g->tol)
+        return 0;
+    cross(e, z, n);
+    if (!unit(e, e))
+        return 0;
+    for (int k = 0; k < 2; k++) {
+        double c[3];
+        axpy(c, to->frame.o, k ? -to->r1 : to->r1, e);
+        plan_circle(P, c, n, to->r2, 0);
+    }
+    return 1;
+}
+
 /* ---------------------------------------------------------------- coaxial surfaces --------- */
 
 /* Profiles of surfaces of revolution about a common axis (o, z) in the meridian plane with
@@ -1296,7 +1321,8 @@ cb_status _cb_ssi_analytic_pair_img(cb_ssi_result_t r, const cb_ssi_surface *A,
         pp_plane_cone(&P, &g, a, b, ta);
     else if (a->kind == CB_ANALYTIC_CYLINDER && b->kind == CB_ANALYTIC_SPHERE)
         pp_cyl_sphere(&P, &g, a, b);
-    else
+    else if (!(a->kind == CB_ANALYTIC_PLANE && b->kind == CB_ANALYTIC_TORUS &&
+               pp_plane_meridian(&P, &g, a, b, ta)))
         P.general = 1;
     /* Surfaces of the general route that coincide (ellipsoids) are found there by proof: phi
      * identically zero, or bounded within tol (ssi_coincide.c). */

@@ -504,6 +504,28 @@ static void test_others(void)
     pair(r, &p2, BOX, &t, TOR, (counts){2, 2, 0, 0, 0}, "tilted plane x torus");
     CHECK(r->pairs_closed_form == 0, "tilted plane x torus: closed form used");
     cb_ssi_result_clear(r);
+    /* Planes holding the torus' axis: the two meridian circles about (+-2) e, radius 0.5, by
+     * the closed form; x = 0 puts them on the lines between the general route's quarter-turn
+     * patches. */
+    const double ang[2] = {0, 0.7};
+    for (int k = 0; k < 2; k++) {
+        double nx = cos(ang[k]), ny = sin(ang[k]), e[2] = {-ny, nx};
+        cb_analytic_surface pm = plane(frame(0, 0, 0, nx, ny, 0));
+        char name[64];
+        snprintf(name, sizeof name, "plane through a torus' axis at %g", ang[k]);
+        pair(r, &pm, BOX, &t, TOR, (counts){2, 2, 0, 0, 0}, name);
+        double off = 0;
+        for (slong c = 0; c < r->n_curves; c++)
+            for (slong i = 0; i < r->curve[c].n; i++) {
+                const double *X = r->curve[c].pt[i].xyz;
+                double s = X[0] * e[0] + X[1] * e[1] > 0 ? 2 : -2;
+                off = fmax(off, fabs(hypot(hypot(X[0] - s * e[0], X[1] - s * e[1]), X[2]) - 0.5));
+            }
+        CHECK(r->pairs_closed_form > 0 && off < 1e-12,
+              "%s: closed form %ld pairs, circles off by %g", name, (long)r->pairs_closed_form,
+              off);
+        cb_ssi_result_clear(r);
+    }
 }
 
 /* ---------------------------------------------------------------- Table 4 ------------------ */
