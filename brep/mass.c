@@ -660,7 +660,8 @@ static cb_status face_integrate(face_result *res, const cb_topo_body *b, int f, 
                  * the edges' tolerance: two coedges ending a little off a pole (a traced
                  * meridian) meet across the pole line either way round, and a lift by the
                  * nearest whole period (half a period away) made the loop wind around it. */
-                if (cb_topo_inverter_spread(&inv, p, e->start) > joint_tol(b, cc - 1, cc, gap_tol)) {
+                if (cb_topo_inverter_spread(&inv, p, e->start) >
+                    joint_tol(b, cc - 1, cc, gap_tol)) {
                     for (int i = 0; i < 2; i++)
                         if (inv.lift[i] > 0)
                             e->map.off[i] = inv.lift[i] * round((p[i] - e->start[i]) / inv.lift[i]);

@@ -571,7 +571,8 @@ static void test_contacts(int as_nurbs)
         const double oe[3] = {0.5, 1, 2.5}, ref[3] = {0, 0.6, 0.8};
         cb_topo_body *E = cylinder(oe, x, ref, 0.5, 3, as_nurbs);
         if (E) {
-            snprintf(name, sizeof name, "cylinder with an end on a box%s", as_nurbs ? " NURBS" : "");
+            snprintf(name, sizeof name, "cylinder with an end on a box%s",
+                     as_nurbs ? " NURBS" : "");
             touching_curve = 1;
             check_op(name, CB_BOOL_UNION, A, E, 8 + 0.75 * PI, 1e-6, NULL);
             check_op(name, CB_BOOL_INTERSECTION, A, E, 0, 1e-6, NULL);
