@@ -30,8 +30,7 @@ static const long MAX_BISECTIONS = 4000;
 /* Bisections of all the inner integrals of one face together: a face whose inner integrals
  * keep failing to converge would otherwise take minutes; it is an error instead. Measured:
  * an ellipsoid cap's face of the Boolean corpus of primitives takes 3.1e6 (10 s), and with
- * 6e6 (about 30 s) no face of that corpus fails but two that never converge; the shipped
- * models' faces take at most 8e3. */
+ * 6e6 (about 30 s) no face of that corpus fails; the shipped models' faces take at most 8e3. */
 static const long MAX_FACE_BISECTIONS = 6000000;
 
 /* The derivative of an edge's foot point on its face takes the surface's curvature into
