@@ -53,6 +53,26 @@ static inline double cb_seg3_nearest(double *lambda, const double a[3], const do
     return cb_vec3_dist(q, p);
 }
 
+/* Barycentric coordinates (b1, b2) of the foot of x on the plane of the triangle a b c: the foot
+ * is a + b1 (b - a) + b2 (c - a), inside the triangle when b1 >= 0, b2 >= 0, b1 + b2 <= 1.
+ * Returns the distance from x to that plane, or -1 for a degenerate triangle (b1, b2 unset). */
+static inline double cb_tri3_foot(double *b1, double *b2, const double a[3], const double b[3],
+                                  const double c[3], const double x[3])
+{
+    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double w[3] = {x[0] - a[0], x[1] - a[1], x[2] - a[2]}, n[3], t1[3], t2[3];
+    cb_vec3_cross(n, e1, e2);
+    double nn = cb_vec3_dot(n, n);
+    if (!(nn > 0))
+        return -1;
+    cb_vec3_cross(t1, w, e2);
+    cb_vec3_cross(t2, e1, w);
+    *b1 = cb_vec3_dot(t1, n) / nn;
+    *b2 = cb_vec3_dot(t2, n) / nn;
+    return fabs(cb_vec3_dot(w, n)) / sqrt(nn);
+}
+
 /* A rigid motion x -> R x + t (R orthonormal, det +1). */
 typedef struct {
     double r[3][3];

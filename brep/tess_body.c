@@ -178,38 +178,22 @@ static int reaches_past(const cb_mesh_t m, int t, int f, int u, int g, const cb_
         P[k] = m->xyz + 3 * m->tri[3 * t + k];
         U[k] = m->xyz + 3 * m->tri[3 * u + k];
     }
-    double e1[3], e2[3], n[3];
-    for (int i = 0; i < 3; i++) {
-        e1[i] = P[1][i] - P[0][i];
-        e2[i] = P[2][i] - P[0][i];
-    }
-    cb_vec3_cross(n, e1, e2);
-    double nn = cb_vec3_dot(n, n);
     double side = 0, dq[7], chord = 0;
     int n_q = 0;
     for (int k = 0; k < 7; k++) {
-        double x[3], uv[2], s[3];
+        double x[3], uv[2], s[3], b1 = 0, b2 = 0;
+        static const double MID[3][2] = {{0.5, 0}, {0.5, 0.5}, {0, 0.5}};
         if (k < 3) {
-            for (int i = 0; i < 3; i++)
-                x[i] = 0.5 * (P[k][i] + P[(k + 1) % 3][i]);
+            b1 = MID[k][0];
+            b2 = MID[k][1];
         } else if (k == 3) {
-            for (int i = 0; i < 3; i++)
-                x[i] = (P[0][i] + P[1][i] + P[2][i]) / 3;
-        } else {
-            /* The foot of u's corner on t's plane, if it falls inside t. */
-            double w[3], c1[3], c2[3];
-            for (int i = 0; i < 3; i++)
-                w[i] = U[k - 4][i] - P[0][i];
-            if (!(nn > 0))
-                continue;
-            cb_vec3_cross(c1, w, e2);
-            cb_vec3_cross(c2, e1, w);
-            double b1 = cb_vec3_dot(c1, n) / nn, b2 = cb_vec3_dot(c2, n) / nn;
-            if (!(b1 >= 0 && b2 >= 0 && b1 + b2 <= 1))
-                continue;
-            for (int i = 0; i < 3; i++)
-                x[i] = P[0][i] + b1 * e1[i] + b2 * e2[i];
+            b1 = b2 = 1.0 / 3;
+        } else if (cb_tri3_foot(&b1, &b2, P[0], P[1], P[2], U[k - 4]) < 0 || b1 < 0 ||
+                   b2 < 0 || b1 + b2 > 1) {
+            continue; /* the foot of u's corner on t's plane falls outside t */
         }
+        for (int i = 0; i < 3; i++)
+            x[i] = P[0][i] + b1 * (P[1][i] - P[0][i]) + b2 * (P[2][i] - P[0][i]);
         cb_topo_inverter_invert(uv, &inv[f], x, NULL);
         cb_topo_inverter_eval(s, &inv[f], uv[0], uv[1]);
         double ds = outer_distance(b, g, &inv[g], s);
@@ -354,14 +338,14 @@ static cb_status remesh(body_mesh *m2, const body_mesh *m, const cb_tess_edges *
 static cb_status settle_contacts(cb_mesh_t out, body_mesh *m, const cb_topo_body *b,
                                  const cb_tess_opts *o, cb_context *ctx, cb_error *err)
 {
-    int nf = b->n_faces, n_zones = 0, cap_zones = 0, n_inv = 0;
+    int nf = b->n_faces, n_zones = 0, cap_zones = 0;
     int *first = malloc(((size_t)nf + 1) * sizeof(int));
-    unsigned char *fresh = malloc((size_t)nf + 1);
+    unsigned char *fresh = malloc((size_t)nf + 1), *ready = calloc((size_t)nf + 1, 1);
     cb_topo_inverter *inv = calloc((size_t)nf + 1, sizeof *inv);
     cb_tess_zone *zs = NULL;
     cb_mesh_t next;
     cb_mesh_init(next);
-    cb_status st = first && fresh && inv
+    cb_status st = first && fresh && ready && inv
                        ? CB_OK
                        : cb_error_set(err, CB_ERR_NOMEM, "tessellation: out of memory");
     double eps = b->tol > 0 ? b->tol : 1e-9 * o->chord_tol, tol = o->chord_tol;
@@ -373,10 +357,6 @@ static cb_status settle_contacts(cb_mesh_t out, body_mesh *m, const cb_topo_body
          * the mesh check's to report. */
         if (cb_mesh_check_crossings(&pairs, &n_pairs, out, eps, &e2) || n_pairs == 0)
             break;
-        while (n_inv < nf && !st)
-            if (!(st = cb_topo_inverter_init(&inv[n_inv], &b->surfaces[b->faces[n_inv].surface],
-                                             b->tol, err)))
-                n_inv++;
         first[0] = 0;
         for (int f = 0; f < nf; f++)
             first[f + 1] = first[f] + m->fm[f].n_tris;
@@ -391,6 +371,12 @@ static cb_status settle_contacts(cb_mesh_t out, body_mesh *m, const cb_topo_body
                 f[i] = face_of(first, nf, t[i]);
             if (f[0] == f[1])
                 continue;
+            /* Inverters only for the faces that cross. */
+            for (int i = 0; i < 2 && !st; i++)
+                if (!ready[f[i]] && !(st = cb_topo_inverter_init(
+                                          &inv[f[i]], &b->surfaces[b->faces[f[i]].surface],
+                                          b->tol, err)))
+                    ready[f[i]] = 1;
             for (int i = 0; i < 2 && !st; i++) {
                 if (!reaches_past(out, t[i], f[i], t[1 - i], f[1 - i], b, inv, eps))
                     continue;
@@ -437,9 +423,11 @@ static cb_status settle_contacts(cb_mesh_t out, body_mesh *m, const cb_topo_body
         cb_mesh_init(next);
     }
     cb_mesh_clear(next);
-    for (int f = 0; f < n_inv; f++)
-        cb_topo_inverter_clear(&inv[f]);
+    for (int f = 0; inv && ready && f < nf; f++)
+        if (ready[f])
+            cb_topo_inverter_clear(&inv[f]);
     free(inv);
+    free(ready);
     free(first);
     free(fresh);
     free(zs);

@@ -368,16 +368,8 @@ static cb_status point_data(face_work *w, int k, int gid, const double *xyz, cb_
 /* Distance from x to the segment p q. */
 static double segment_distance(const double x[3], const double p[3], const double q[3])
 {
-    double d[3], w[3], c[3];
-    for (int i = 0; i < 3; i++) {
-        d[i] = q[i] - p[i];
-        w[i] = x[i] - p[i];
-    }
-    double dd = cb_vec3_dot(d, d), s = dd > 0 ? cb_vec3_dot(w, d) / dd : 0;
-    s = s < 0 ? 0 : s > 1 ? 1 : s;
-    for (int i = 0; i < 3; i++)
-        c[i] = p[i] + s * d[i];
-    return cb_vec3_dist(x, c);
+    double lambda;
+    return cb_seg3_nearest(&lambda, p, q, x);
 }
 
 /* Distance from x to the triangle p q r: to its plane when x projects inside it, else to the
@@ -385,23 +377,9 @@ static double segment_distance(const double x[3], const double p[3], const doubl
 static double triangle_distance(const double x[3], const double p[3], const double q[3],
                                 const double r[3])
 {
-    double e1[3], e2[3], w[3], n[3];
-    for (int i = 0; i < 3; i++) {
-        e1[i] = q[i] - p[i];
-        e2[i] = r[i] - p[i];
-        w[i] = x[i] - p[i];
-    }
-    cb_vec3_cross(n, e1, e2);
-    double nn = cb_vec3_dot(n, n);
-    if (nn > 0) {
-        /* Barycentric coordinates of the projection of x onto the plane. */
-        double t1[3], t2[3];
-        cb_vec3_cross(t1, w, e2);
-        cb_vec3_cross(t2, e1, w);
-        double b1 = cb_vec3_dot(t1, n) / nn, b2 = cb_vec3_dot(t2, n) / nn;
-        if (b1 >= 0 && b2 >= 0 && b1 + b2 <= 1)
-            return fabs(cb_vec3_dot(w, n)) / sqrt(nn);
-    }
+    double b1, b2, d = cb_tri3_foot(&b1, &b2, p, q, r, x);
+    if (d >= 0 && b1 >= 0 && b2 >= 0 && b1 + b2 <= 1)
+        return d;
     return fmin(segment_distance(x, p, q),
                 fmin(segment_distance(x, q, r), segment_distance(x, r, p)));
 }
