@@ -161,10 +161,10 @@ typedef struct {
  * cap, count *n). Returns 1 when every root was found and certified simple and strictly
  * inside the domain, 0 when ambiguous (a root on or near the domain's boundary, a multiple or
  * near-multiple root, more than cap roots, more than budget boxes, or no memory for the
- * search). */
+ * search). The boxes examined are added to *spent. */
 int _cb_ssi_edge_roots(_cb_ssi_edge_root *roots, int cap, int *n, const _cb_ssi_bez *C, int dir,
                        double c, double w0, double w1, const _cb_iv *cnet, const _cb_ssi_bez *S,
-                       const double box[4], const _cb_iv *snet, int budget);
+                       const double box[4], const _cb_iv *snet, int budget, long *spent);
 
 /* ---------------------------------------------------------------- patch pairs -------------- */
 
@@ -172,6 +172,11 @@ typedef struct {
     int max_depth;     /* floor: sub-patches are not split below width 2^-max_depth */
     long max_subpairs; /* work budget per patch pair */
     double tol, chord, max_seg;
+    int band; /* 1: a sub-pair without a direction that is proved within tol of the other
+                 (slab_within) is not split further at any size, so that a tangential curve's
+                 contact band is covered by sub-pairs of the slab's size, not of STOP_TOL tol
+                 (the caller's second pass when the budget ran out); the boxes of its
+                 boundary-root searches then count against max_subpairs as well */
 } _cb_ssi_spline_opts;
 
 typedef struct {
@@ -186,6 +191,7 @@ typedef struct {
     int march_failed;          /* branches whose marching did not converge (reported uncertified) */
     int nomem;                 /* 1: memory ran out, the pair stopped (reported uncertified) */
     long unresolved;           /* sub-pairs left for _cb_ssi_tiny_resolve (see below) */
+    long edge_boxes;           /* boxes of the boundary root searches (_cb_ssi_edge_roots) */
 } _cb_ssi_spline_stats;
 
 /* A sub-pair the tests could not certify, left at the 3D floor (both sub-patches within tol / 8)
@@ -246,11 +252,38 @@ typedef struct {
  * *regions, *nodes (of them with branch ends), *width (largest diameter), and a record in *out
  * (*nout of them, malloc'd, the caller frees; NULL when none) whose index the moved piece ends
  * (and the contact point) carry in _cb_ssi_end.region, so stitching joins them; within[k] is
- * set for every pair k with a member in a resolved region or a piece end moved. -1 when out of
- * memory. */
+ * set for every pair k with a member in a resolved region or a piece end moved. A cluster
+ * wider than 100 tol with every member proved within tol, that meets no sub-pair left
+ * uncertified and holds no piece end (in a member's box grown by tol), is a contact band: its
+ * curves are the valley of the distance (_cb_ssi_band_trace on P and Q, the whole surfaces
+ * whose domains the pieces' parameters are in; NULL: not tried), appended to the set of its
+ * first member's pair, the region recorded (no node, ends 0). -1 when out of memory. */
 int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tiny_set *tiny,
                          char *bad, long *unres, double tol, long *regions, long *nodes,
-                         double *width, _cb_ssi_tiny_region **out, slong *nout, char *within);
+                         double *width, _cb_ssi_tiny_region **out, slong *nout, char *within,
+                         const cb_ssi_surface *P, const cb_ssi_surface *Q, double chord,
+                         double max_seg);
+
+/* The curves of a contact band (ssi_band.c): the m[0 .. nm) members of one cluster of sub-pairs
+ * proved within tol of each other (slab_within), P and Q the whole B-spline surfaces (uv, st of
+ * the members in their domains). The rule (tolerance-certificates.md section 2, "the curve
+ * reported inside it is the minimum of the distance"): with D(u, v) the signed distance of
+ * P(u, v) from its foot on Q along Q's normal, the curve is the valley of D, the points where
+ * D's derivative across the valley (along the eigenvector of D's Hessian of largest eigenvalue)
+ * is 0, traced from a member's point by steps along the valley, each point settled onto it by
+ * Newton's method across it, the chords within chord (sagitta, by the settled midpoint) and
+ * max_seg; a curve ends where it closes, on a side of P's domain (that parameter held, its
+ * `fixed` bit set), or where Q's domain ends. Checked, or 0 (not resolved): every point within
+ * tol of both surfaces (|D| <= tol) and in a member's box grown by tol (in the region proved
+ * within tol), every member's valley point within 2 chord + 10 tol of a traced curve (a member
+ * off every curve seeds another; at most 16). Not proved: that the valley is unique between
+ * the points, or that the surfaces touch there (a near miss within tol reads as a tangential
+ * curve). On success the curves are appended to out as tangential pieces flagged within
+ * (stitching marks their curves not certified); 1, 0 not resolved (out may hold part of the
+ * curves: the caller drops them), -1 out of memory. Only B-spline P and Q (0 otherwise). */
+int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const cb_ssi_surface *P, const cb_ssi_surface *Q,
+                       const _cb_ssi_tiny *const *m, slong nm, double tol, double chord,
+                       double max_seg);
 
 /* ---------------------------------------------------------------- coincidence ------------- */
 

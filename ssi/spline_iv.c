@@ -471,7 +471,7 @@ static int hulls_apart(const _cb_iv *cn, int nc, int dcv, const _cb_iv *sn, int 
 
 int _cb_ssi_edge_roots(_cb_ssi_edge_root *roots, int cap, int *n, const _cb_ssi_bez *C, int dir,
                        double c, double w0, double w1, const _cb_iv *cnet, const _cb_ssi_bez *S,
-                       const double box[4], const _cb_iv *snet, int budget)
+                       const double box[4], const _cb_iv *snet, int budget, long *spent)
 {
     edge_sys e = {C, S, dir, c};
     _cb_iv D[3] = {{w0, w1}, {box[0], box[1]}, {box[2], box[3]}};
@@ -630,5 +630,6 @@ int _cb_ssi_edge_roots(_cb_ssi_edge_root *roots, int cap, int *n, const _cb_ssi_
     free(tmp);
     free(pool);
     free(stack);
+    *spent += work;
     return ok;
 }

@@ -560,7 +560,7 @@ static void param_velocity(double d[2], const double Xu[3], const double Xv[3], 
 /* Boundary points of the sub-pair: -1 ambiguous, else their number. side: 0 u = lo, 1 u = hi,
  * 2 v = lo, 3 v = hi of patch P (which = 0) or Q (which = 1). */
 static int boundary_points(bpt *out, const _cb_ssi_bez *P, const _cb_ssi_bez *Q, const node *a,
-                           const node *b, const double e[3])
+                           const node *b, const double e[3], long *spent)
 {
     int nb = 0;
     for (int which = 0; which < 2; which++) {
@@ -591,7 +591,7 @@ static int boundary_points(bpt *out, const _cb_ssi_bez *P, const _cb_ssi_bez *Q,
             }
             int n = 0;
             if (!_cb_ssi_edge_roots(r, MAX_BPTS, &n, C, dir, c, w0, w1, cnet, S, sn->box, sn->net,
-                                    EDGE_BUDGET))
+                                    EDGE_BUDGET, spent))
                 return -1;
             for (int k = 0; k < n; k++) {
                 if (nb == MAX_BPTS)
@@ -1025,9 +1025,30 @@ static int cmp_tiny(const void *x, const void *y)
     return (a->root > b->root) - (a->root < b->root);
 }
 
+/* Whether a piece end of sets lies in a box of the cluster c's members grown by tol. */
+static int band_has_end(const _cb_ssi_piece_set *sets, slong nsets, _cb_ssi_tiny *t, slong nt,
+                        slong c, double tol)
+{
+    for (slong k = 0; k < nsets; k++)
+        for (slong q = 0; q < sets[k].n; q++) {
+            const _cb_ssi_piece *pc = sets[k].p + q;
+            if (pc->n < 1 || pc->closed)
+                continue;
+            for (int e = 0; e < 2; e++) {
+                const double *X = pc->xyz + 3 * (e ? pc->n - 1 : 0);
+                for (slong i = c; i < nt; i++)
+                    if (tiny_find(t, (int)i) == c && in_box(X, t[i].lo, t[i].hi, tol))
+                        return 1;
+            }
+        }
+    return 0;
+}
+
 int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tiny_set *tiny,
                          char *bad, long *unres, double tol, long *regions, long *nodes,
-                         double *width, _cb_ssi_tiny_region **out, slong *nout, char *within)
+                         double *width, _cb_ssi_tiny_region **out, slong *nout, char *within,
+                         const cb_ssi_surface *P, const cb_ssi_surface *Q, double chord,
+                         double max_seg)
 {
     *out = NULL;
     *nout = 0;
@@ -1078,6 +1099,55 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
             }
         double diam = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                            (hi[2] - lo[2]) * (hi[2] - lo[2]));
+        /* A contact band: its curves traced along the valley of the distance. */
+        if (!blocked && all_slab && diam > WT_MAX_TOL * tol && P && Q &&
+            !band_has_end(sets, nsets, t, nt, c, tol)) {
+            slong nm = 0;
+            for (slong i = c; i < nt; i++)
+                nm += tiny_find(t, (int)i) == c;
+            const _cb_ssi_tiny **m = malloc((size_t)nm * sizeof *m);
+            int traced = -1;
+            if (m) {
+                nm = 0;
+                for (slong i = c; i < nt; i++)
+                    if (tiny_find(t, (int)i) == c)
+                        m[nm++] = t + i;
+                traced = _cb_ssi_band_trace(sets + t[c].job, P, Q, m, nm, tol, chord, max_seg);
+                free(m);
+            }
+            if (traced > 0 && *nout == alloc_out) {
+                slong na = alloc_out ? 2 * alloc_out : 8;
+                _cb_ssi_tiny_region *q = realloc(*out, (size_t)na * sizeof *q);
+                if (q) {
+                    *out = q;
+                    alloc_out = na;
+                } else {
+                    traced = -1;
+                }
+            }
+            if (traced < 0) {
+                st = -1;
+                break;
+            }
+            if (traced > 0) {
+                _cb_ssi_tiny_region *rg = *out + (*nout)++;
+                memcpy(rg->lo, lo, sizeof rg->lo);
+                memcpy(rg->hi, hi, sizeof rg->hi);
+                rg->width = diam;
+                memcpy(rg->X, t[c].X, sizeof rg->X);
+                memcpy(rg->uv, t[c].uv, sizeof rg->uv);
+                memcpy(rg->st, t[c].st, sizeof rg->st);
+                rg->slab = 1;
+                rg->ends = 0;
+                rg->job = t[c].job;
+                for (slong i = c; i < nt; i++)
+                    if (tiny_find(t, (int)i) == c)
+                        within[t[i].job] = 1;
+                (*regions)++;
+                *width = fmax(*width, diam);
+                continue;
+            }
+        }
         if (blocked || !(diam <= tol || (all_slab && diam <= WT_MAX_TOL * tol))) {
             for (slong i = c; i < nt; i++)
                 if (tiny_find(t, (int)i) == c && !t[i].blocker) {
@@ -1228,7 +1298,10 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
     while (sp > 0 && !st->nomem) {
         sp--;
         int ia = stack[sp][0], ib = stack[sp][1];
-        if (st->subpairs >= o->max_subpairs) {
+        /* In a band run the boundary-root searches' boxes count against the budget too:
+         * a band is crossed by slabs, and where roots cost the work (curves along patch
+         * sides: 45 boxes per sub-pair against under 7) the second run would only be long. */
+        if (st->subpairs >= o->max_subpairs || (o->band && st->edge_boxes >= o->max_subpairs)) {
             uncertified(st, TP.nd + ia, TQ.nd + ib);
             /* A region left open here: a tangent region meeting it is not resolved. */
             if (tiny_add(tiny, TP.nd + ia, TQ.nd + ib, P, Q, 0, 0, job))
@@ -1261,7 +1334,7 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
         if (!cone_direction(e, a, b, TP.nn, TQ.nn))
             reason = 1;
         if (!reason) {
-            nb = boundary_points(bp, P, Q, a, b, e);
+            nb = boundary_points(bp, P, Q, a, b, e, &st->edge_boxes);
             if (nb < 0)
                 reason = 2;
             else if (nb > 0) {
@@ -1292,7 +1365,8 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
         /* Both sub-patches within TINY_TOL tol, or within STOP_TOL tol and proved within tol
          * of each other: not split further; resolved with the others of its cluster after the
          * traversal. */
-        int small = a->size <= STOP_TOL * o->tol && b->size <= STOP_TOL * o->tol;
+        int small = o->band ||
+                    (a->size <= STOP_TOL * o->tol && b->size <= STOP_TOL * o->tol);
         int slab = small && slab_within(a, b, TP.nn, TQ.nn, o->tol);
         if ((a->size <= TINY_TOL * o->tol && b->size <= TINY_TOL * o->tol) || slab) {
             if (tiny_add(tiny, a, b, P, Q, reason, slab, job)) {

@@ -116,6 +116,11 @@ typedef struct {
     slong spline_max_subpairs; /* subdivision route: sub-patch pairs examined per Bezier
                                   patch pair before the rest is reported uncertified;
                                   default 20000 */
+    slong spline_band_subpairs; /* subdivision route: a Bezier pair that ran out of that
+                                   budget runs again with this one, sub-pairs proved within
+                                   tol of each other left whole at any size (a contact band
+                                   along a tangential curve, then traced: ssi/README.md,
+                                   "Outcomes"); default 200000; 0: no second run */
     int recognise; /* 1 (default): B-spline faces proved to lie on planes, cylinders, spheres
                       or cones (within 1e-3 tol) take the analytic closed forms when one
                       decides the pair (ssi_recog.c); 0: always the B-spline routes */
@@ -407,6 +412,7 @@ typedef struct {
     double *xyz;   /* 3 n: midpoints of P(uv) and Q(st) */
     double gap;    /* largest |P(uv) - Q(st)| over the points */
     int closed, tangential, isolated;
+    int within; /* the valley of a contact band (ssi_band.c): a curve within tolerance */
     _cb_ssi_end end[2]; /* first and last point (an isolated point: end[0]) */
 } _cb_ssi_piece;
 

@@ -38,6 +38,7 @@ void cb_ssi_opts_default(cb_ssi_opts *o)
     cb_ctopo_opts_default(&o->topo);
     o->spline_max_depth = 30;
     o->spline_max_subpairs = 20000;
+    o->spline_band_subpairs = 200000;
     o->recognise = 1;
     o->cancel = NULL;
     o->progress = NULL;
@@ -459,9 +460,23 @@ static void spline_run(pair_job *J, const pair_ctx *c)
         return;
     }
     _cb_ssi_spline_opts so = {c->opts->spline_max_depth, c->opts->spline_max_subpairs, c->tol,
-                              c->chord, c->max_seg};
+                              c->chord, c->max_seg, 0};
     _cb_ssi_spline_pair(&J->pieces, &J->sst, &P, &Q, &so, &J->tiny, (int)(J - c->job));
     const _cb_ssi_spline_stats *s = &J->sst;
+    /* The budget ran out: again, with the band budget and sub-pairs proved within tol of each
+     * other left whole at any size, so that a contact band along a tangential curve (millions of sub-pairs of
+     * STOP_TOL tol) is covered by few; its cluster is then traced (_cb_ssi_tiny_resolve). Not
+     * the first choice: near nodes and crossings at small angles are resolved more finely by
+     * the first pass. */
+    if (!s->nomem && c->opts->spline_band_subpairs > 0 &&
+        s->uncertified - s->no_direction - s->ambiguous_roots - s->many_branches -
+                s->march_failed > 0) {
+        _cb_ssi_piece_set_clear(&J->pieces);
+        _cb_ssi_tiny_set_clear(&J->tiny);
+        so.band = 1;
+        so.max_subpairs = c->opts->spline_band_subpairs;
+        _cb_ssi_spline_pair(&J->pieces, &J->sst, &P, &Q, &so, &J->tiny, (int)(J - c->job));
+    }
     if (s->nomem) {
         J->st = CB_ERR_NOMEM;
         snprintf(J->msg, sizeof J->msg, "subdivision: out of memory after %ld sub-patch pairs",
@@ -1101,7 +1116,8 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
         if (st == CB_OK && !twithin)
             st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory resolving tangent regions");
         if (st == CB_OK && _cb_ssi_tiny_resolve(psets, nj, tiny, bad, unres, tol, &regions,
-                                                &nodes, &wt_width, &treg, &ntreg, twithin) < 0)
+                                                &nodes, &wt_width, &treg, &ntreg, twithin, Ps,
+                                                Qs, chord, 0.05 * size) < 0)
             st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory resolving tangent regions");
         /* Each resolved region listed: a near node (at most tol across), or a contact band
          * (up to 100 tol, every member proved within tol of the other surface). */

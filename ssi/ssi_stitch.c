@@ -982,6 +982,8 @@ cb_status _cb_ssi_stitch(cb_ssi_result_t r, _cb_ssi_stitch_set *sets, slong nset
             st = append_piece(c, &alloc, it + i, 0, nodes, o->swapped);
             c->closed = 1;
             c->tangential = it[i].p->tangential;
+            if (it[i].p->within)
+                c->certified = 0;
             continue;
         }
         /* Walk backwards from piece i to the chain's start (a node of degree != 2) or around
@@ -1016,7 +1018,8 @@ cb_status _cb_ssi_stitch(cb_ssi_result_t r, _cb_ssi_stitch_set *sets, slong nset
             it[cur].used = 1;
             c->tangential &= it[cur].p->tangential != 0;
             /* A join resolved within tolerance at either end of the piece. */
-            if (nodes[it[cur].node[0]].within || nodes[it[cur].node[1]].within)
+            if (nodes[it[cur].node[0]].within || nodes[it[cur].node[1]].within ||
+                it[cur].p->within)
                 c->certified = 0;
             st = append_piece(c, &alloc, it + cur, rev, nodes, o->swapped);
             if (st != CB_OK)
