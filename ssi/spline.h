@@ -242,7 +242,7 @@ typedef struct {
 /* Within the tolerance (tolerance-certificates.md sections 2 and 5), for the unresolved
  * sub-pairs of all patch pairs of two surfaces (tiny[k]: those of pair k, pieces sets[k]):
  * they are clustered (3D boxes meeting within tol / 10), and a cluster that meets no sub-pair
- * left uncertified (blocker) and has a 3D diameter at most tol, or at most 100 tol with every
+ * left uncertified (blocker) and has a 3D diameter at most tol, or at most 1000 tol with every
  * member proved within tol, is resolved: the piece ends
  * (of every pair) in its box grown by tol move onto one point of both surfaces in it (a member's
  * candidate whose surface points are within tol; with none the cluster is not resolved),
@@ -253,7 +253,7 @@ typedef struct {
  * (*nout of them, malloc'd, the caller frees; NULL when none) whose index the moved piece ends
  * (and the contact point) carry in _cb_ssi_end.region, so stitching joins them; within[k] is
  * set for every pair k with a member in a resolved region or a piece end moved. A cluster
- * wider than 100 tol with every member proved within tol, that meets no sub-pair left
+ * wider than 1000 tol with every member proved within tol, that meets no sub-pair left
  * uncertified and holds no piece end (in a member's box grown by tol), is a contact band: its
  * curves are the valley of the distance (_cb_ssi_band_trace on P and Q, the whole surfaces
  * whose domains the pieces' parameters are in; NULL: not tried), appended to the set of its

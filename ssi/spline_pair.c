@@ -17,10 +17,14 @@
  * and proved within tol of each other (slab_within) is not split either; a cluster of such
  * sub-pairs is resolved when its 3D diameter is at most tol, or at most WT_MAX_TOL tol with
  * every member proved within tol (a region where the two surfaces lie within tol of each
- * other: a near-tangent node or contact). */
+ * other: a near-tangent node or contact). WT_MAX_TOL: the branch ends moved onto the region's
+ * point run to it inside the region, by chords of at most that length; at the default tol
+ * (1e-6 of the model's size) 1000 tol is 1e-3 of the size, whose sagitta on a surface of
+ * curvature radius the model's size is a tenth of tol. The nodes of bicubic graph pairs in
+ * generic poses need up to about 1000 tol (bench_ssi_corpus). */
 #define TINY_TOL 0.125
 #define STOP_TOL 8.0
-#define WT_MAX_TOL 100.0
+#define WT_MAX_TOL 1000.0
 
 /* ---------------------------------------------------------------- sub-patches -------------- */
 

@@ -315,7 +315,7 @@ typedef struct {
                                 pairs_certified; the others took the general route) */
     slong regions_within_tol; /* tangent regions the subdivision route resolved within the
                                  tolerance (a cluster of sub-pairs of 3D diameter <= tol, or
-                                 <= 100 tol where the surfaces are proved within tol of each
+                                 <= 1000 tol where the surfaces are proved within tol of each
                                  other): each became one point (_cb_ssi_tiny_resolve) */
     slong nodes_within_tol;   /* of them with branch ends joined there (near-tangent nodes);
                                  the others are isolated contact points */

@@ -1120,7 +1120,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                                                 Qs, chord, 0.05 * size) < 0)
             st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory resolving tangent regions");
         /* Each resolved region listed: a near node (at most tol across), or a contact band
-         * (up to 100 tol, every member proved within tol of the other surface). */
+         * (up to WT_MAX_TOL tol, every member proved within tol of the other surface). */
         for (slong g = 0; g < ntreg && st == CB_OK; g++) {
             const _cb_ssi_tiny_region *tr = treg + g;
             const pair_job *J = job + tr->job;
