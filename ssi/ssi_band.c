@@ -221,12 +221,14 @@ typedef struct {
     vpt *p;
 } vline;
 
+/* 0, 1 when the line has MAX_POINTS points already (a walk that does not end), -1 when out of
+ * memory. */
 static int vline_push(vline *l, const vpt *p)
 {
     if (l->n == l->alloc) {
         slong na = l->alloc ? 2 * l->alloc : 64;
         if (na > MAX_POINTS)
-            return -1;
+            return 1;
         vpt *q = realloc(l->p, (size_t)na * sizeof *q);
         if (!q)
             return -1;
@@ -258,8 +260,9 @@ static int walk(vline *l, const band *b, const vpt *s, int sgn, const _cb_ssi_ti
                 slong nm, double *trav)
 {
     l->n = 0;
-    if (vline_push(l, s))
-        return -1;
+    int pr = vline_push(l, s);
+    if (pr)
+        return pr < 0 ? -1 : 0;
     double len = fmin(b->max_seg, 64 * b->chord), prev_dir[2] = {0, 0}, S[3];
     mid3(S, s);
     *trav = 0;
@@ -357,12 +360,12 @@ static int walk(vline *l, const band *b, const vpt *s, int sgn, const _cb_ssi_ti
         double at;
         double ds = cb_seg3_nearest(&at, A, B, S);
         if (l->n >= 3 && *trav > 4 * len && ds <= 2 * b->chord + 10 * b->tol) {
-            if (vline_push(l, s))
-                return -1;
-            return 2;
+            pr = vline_push(l, s);
+            return pr ? (pr < 0 ? -1 : 0) : 2;
         }
-        if (vline_push(l, &nx))
-            return -1;
+        pr = vline_push(l, &nx);
+        if (pr)
+            return pr < 0 ? -1 : 0;
         if (dev < 0.25 * b->chord)
             len = fmin(1.5 * len, b->max_seg);
     }
@@ -476,13 +479,21 @@ int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const cb_ssi_surface *P, const cb
         L->p = NULL;
         closed[nl] = w == 2;
         nl++;
-        if (w == 1)
-            for (slong k = bw.n - 1; k >= 1 && st == 1; k--)
-                if (vline_push(L, bw.p + k))
-                    st = -1;
-        for (slong k = 0; k < fw.n && st == 1; k++)
-            if (vline_push(L, fw.p + k))
-                st = -1;
+        /* The backward walk reversed, then the forward one; a walk whose first step stayed on
+         * the side the seed lies on repeats it (not kept twice). */
+        for (slong k = w == 1 ? -(bw.n - 1) : 0; k < fw.n && st == 1; k++) {
+            const vpt *q = k < 0 ? bw.p - k : fw.p + k;
+            double A[3], B[3];
+            mid3(B, q);
+            if (L->n > 0) {
+                mid3(A, L->p + L->n - 1);
+                if (cb_vec3_dist(A, B) <= 0.0625 * tol)
+                    continue;
+            }
+            int pr = vline_push(L, q);
+            if (pr)
+                st = pr < 0 ? -1 : 0;
+        }
         done[i] = 1;
     }
     /* Members whose valley point lies past a side of Q's domain: settled with the roles of P

@@ -464,10 +464,10 @@ static void spline_run(pair_job *J, const pair_ctx *c)
     _cb_ssi_spline_pair(&J->pieces, &J->sst, &P, &Q, &so, &J->tiny, (int)(J - c->job));
     const _cb_ssi_spline_stats *s = &J->sst;
     /* The budget ran out: again, with the band budget and sub-pairs proved within tol of each
-     * other left whole at any size, so that a contact band along a tangential curve (millions of sub-pairs of
-     * STOP_TOL tol) is covered by few; its cluster is then traced (_cb_ssi_tiny_resolve). Not
-     * the first choice: near nodes and crossings at small angles are resolved more finely by
-     * the first pass. */
+     * other left whole at any size, so that a contact band along a tangential curve (millions
+     * of sub-pairs of STOP_TOL tol) is covered by few; its cluster is then traced
+     * (_cb_ssi_tiny_resolve). Not the first choice: near nodes and crossings at small angles
+     * are resolved more finely by the first pass. */
     if (!s->nomem && c->opts->spline_band_subpairs > 0 &&
         s->uncertified - s->no_direction - s->ambiguous_roots - s->many_branches -
                 s->march_failed > 0) {
@@ -975,6 +975,8 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                        (box.hi[2] - box.lo[2]) * (box.hi[2] - box.lo[2]));
     double tol = opts->tol > 0 ? opts->tol : 1e-6 * size;
     double chord = opts->chord > 0 ? opts->chord : 1e-3 * size;
+    /* Longest chord of a traced polyline (the subdivision route's marching, contact bands). */
+    double max_seg = 0.05 * size;
     r->tol = tol;
 
     /* Patch pairs surviving the OBB test (section 4.1). */
@@ -1084,7 +1086,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
     }
     if (st == CB_OK) {
         pair_ctx pc = {job, P, ppat ? NULL : F_an, Ps, Q, ppat, qpat, opts, tol, chord,
-                       0.05 * size, size};
+                       max_seg, size};
         st = cb_parallel_for((size_t)nj, 1, opts->threads, pair_body, &pc);
         if (st != CB_OK)
             cb_error_set(err, st, "ssi: parallel patch pairs failed: %s", cb_status_name(st));
@@ -1117,7 +1119,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
             st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory resolving tangent regions");
         if (st == CB_OK && _cb_ssi_tiny_resolve(psets, nj, tiny, bad, unres, tol, &regions,
                                                 &nodes, &wt_width, &treg, &ntreg, twithin, Ps,
-                                                Qs, chord, 0.05 * size) < 0)
+                                                Qs, chord, max_seg) < 0)
             st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory resolving tangent regions");
         /* Each resolved region listed: a near node (at most tol across), or a contact band
          * (up to WT_MAX_TOL tol, every member proved within tol of the other surface). */
