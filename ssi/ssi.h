@@ -120,7 +120,8 @@ typedef struct {
                                    budget runs again with this one, sub-pairs proved within
                                    tol of each other left whole at any size (a contact band
                                    along a tangential curve, then traced: ssi/README.md,
-                                   "Outcomes"); default 200000; 0: no second run */
+                                   "Outcomes"), kept when it leaves nothing uncertified;
+                                   default 200000; 0: no second run */
     int recognise; /* 1 (default): B-spline faces proved to lie on planes, cylinders, spheres
                       or cones (within 1e-3 tol) take the analytic closed forms when one
                       decides the pair (ssi_recog.c); 0: always the B-spline routes */

@@ -471,11 +471,26 @@ static void spline_run(pair_job *J, const pair_ctx *c)
     if (!s->nomem && c->opts->spline_band_subpairs > 0 &&
         s->uncertified - s->no_direction - s->ambiguous_roots - s->many_branches -
                 s->march_failed > 0) {
-        _cb_ssi_piece_set_clear(&J->pieces);
-        _cb_ssi_tiny_set_clear(&J->tiny);
+        /* Kept only when it leaves nothing uncertified: otherwise the first run's finer
+         * pieces and regions stand (its refusal with them). */
+        _cb_ssi_piece_set first = J->pieces;
+        _cb_ssi_tiny_set first_tiny = J->tiny;
+        _cb_ssi_spline_stats first_st = J->sst;
+        _cb_ssi_piece_set_init(&J->pieces);
+        _cb_ssi_tiny_set_init(&J->tiny);
         so.band = 1;
         so.max_subpairs = c->opts->spline_band_subpairs;
         _cb_ssi_spline_pair(&J->pieces, &J->sst, &P, &Q, &so, &J->tiny, (int)(J - c->job));
+        if (J->sst.uncertified > 0 && !J->sst.nomem) {
+            _cb_ssi_piece_set_clear(&J->pieces);
+            _cb_ssi_tiny_set_clear(&J->tiny);
+            J->pieces = first;
+            J->tiny = first_tiny;
+            J->sst = first_st;
+        } else {
+            _cb_ssi_piece_set_clear(&first);
+            _cb_ssi_tiny_set_clear(&first_tiny);
+        }
     }
     if (s->nomem) {
         J->st = CB_ERR_NOMEM;
