@@ -58,7 +58,8 @@ static int foot(const band *b, vpt *p, double d[6][3])
         int clamped = n[0] != p->st[0] + step[0] || n[1] != p->st[1] + step[1];
         /* Newton converges quadratically: after a step of 1e-10 of the domain the foot is
          * as good as rounding lets it be. */
-        int still = fabs(n[0] - p->st[0]) <= 1e-10 * wq[0] && fabs(n[1] - p->st[1]) <= 1e-10 * wq[1];
+        int still = fabs(n[0] - p->st[0]) <= 1e-10 * wq[0] &&
+                    fabs(n[1] - p->st[1]) <= 1e-10 * wq[1];
         p->st[0] = n[0];
         p->st[1] = n[1];
         if (still) {
@@ -156,8 +157,9 @@ static void across(double e[2], double *lam, const double H[2][2])
 
 /* Moves p onto the valley of D: Newton on dD/de = 0 along the direction e across the valley
  * (Hessian's eigenvector of largest eigenvalue), or along P's free parameter when the other is
- * held on a side of P's domain (p->fixed; a step past a side lands on it and holds it). 1 when it converged inside P's domain with |D| <= tol; -1
- * when the foot left Q's domain; 0 otherwise (no valley, left P's domain, not within tol). */
+ * held on a side of P's domain (p->fixed; a step past a side lands on it and holds it). 1 when
+ * it converged with |D| <= tol; -1 when the foot left Q's domain; 0 otherwise (no valley, no
+ * convergence, not within tol). */
 static int settle(const band *b, vpt *p)
 {
     const double wp[2] = {b->dp[1] - b->dp[0], b->dp[3] - b->dp[2]};

@@ -86,7 +86,11 @@
  * tol where proved within tol of each other (slab); a cluster of them is resolved within the
  * tolerance when at most tol across (a NEAR_NODE region), or at most WT_MAX_TOL tol with every
  * member proved within tol (a CONTACT_BAND region): the piece ends in it moved onto one point
- * and joined there (within_tolerance; ssi_pairs.c lists the regions). Larger clusters are
+ * and joined there (within_tolerance; ssi_pairs.c lists the regions). A larger cluster, every
+ * member proved within tol, holding no piece end, is a CONTACT_BAND whose curves are the valley
+ * of the distance (ssi_band.c: every point within tol of both surfaces and in a member's box
+ * grown by tol, every member's valley point within 2 chord + 10 tol of a curve, steps no
+ * shorter than 4 tol; within_tolerance, the curves not certified). Other clusters are
  * refused. */
 
 /* ---------------------------------------------------------------- closed forms ------------ */
