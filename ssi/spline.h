@@ -176,7 +176,9 @@ typedef struct {
                  (slab_within) is not split further at any size, so that a tangential curve's
                  contact band is covered by sub-pairs of the slab's size, not of STOP_TOL tol
                  (the caller's second pass when the budget ran out); the boxes of its
-                 boundary-root searches then count against max_subpairs as well */
+                 boundary-root searches then count against max_subpairs as well, and it
+                 stops at the first sub-pair left uncertified (the caller keeps it only
+                 when none is) */
 } _cb_ssi_spline_opts;
 
 typedef struct {

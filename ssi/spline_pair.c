@@ -1299,7 +1299,9 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
     stack[sp][0] = 0;
     stack[sp][1] = 0;
     sp++;
-    while (sp > 0 && !st->nomem) {
+    /* A band run is kept only when it leaves nothing uncertified (ssi_pairs.c): once one
+     * sub-pair is, the rest is not needed. */
+    while (sp > 0 && !st->nomem && !(o->band && st->uncertified > 0)) {
         sp--;
         int ia = stack[sp][0], ib = stack[sp][1];
         /* In a band run the boundary-root searches' boxes count against the budget too:
