@@ -481,6 +481,8 @@ static void spline_run(pair_job *J, const pair_ctx *c)
         so.band = 1;
         so.max_subpairs = c->opts->spline_band_subpairs;
         _cb_ssi_spline_pair(&J->pieces, &J->sst, &P, &Q, &so, &J->tiny, (int)(J - c->job));
+        /* Either way, both runs' sub-pairs count as examined. */
+        long both = first_st.subpairs + J->sst.subpairs;
         if (J->sst.uncertified > 0 && !J->sst.nomem) {
             _cb_ssi_piece_set_clear(&J->pieces);
             _cb_ssi_tiny_set_clear(&J->tiny);
@@ -491,6 +493,7 @@ static void spline_run(pair_job *J, const pair_ctx *c)
             _cb_ssi_piece_set_clear(&first);
             _cb_ssi_tiny_set_clear(&first_tiny);
         }
+        J->sst.subpairs = both;
     }
     if (s->nomem) {
         J->st = CB_ERR_NOMEM;
