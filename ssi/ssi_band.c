@@ -516,9 +516,10 @@ int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const cb_ssi_surface *P, const cb
         double S[3];
         int on = 0;
         int q2 = settle(&sw, &s);
-        /* -1: its foot past P's side as well (a corner where both end). */
+        /* -1: its foot past P's side as well (a corner where both end); its point on Q is
+         * the one compared (the foot was not found). */
         if (q2 != 0) {
-            mid3(S, &s);
+            memcpy(S, s.X, sizeof S);
             for (int c = 0; c < nl && !on; c++)
                 on = line_dist(lines + c, S) <= 2 * chord + 10 * tol;
         }
