@@ -634,6 +634,13 @@ cb_status _cb_ssi_add_marks(cb_ssi_result_t r, const cb_ssi_mark *m, slong n);
  * everything once). */
 cb_status _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s);
 
+/* Distance from X to the B-spline surface pat (a Bezier patch or a whole surface), and the
+ * parameters uv of the nearest point found: the nearest of a 9 x 9 grid of its domain (or uv
+ * itself when warm), then Gauss-Newton clamped to the domain (at most 30 steps, each kept only
+ * when the distance drops). An upper bound on the distance to the surface (ssi_pairs.c). */
+double _cb_ssi_nurbs_project(double uv[2], const cb_nurbs_surface_struct *pat, const double X[3],
+                             int warm);
+
 /* Inserts, into curves c0 .. of r that are not tangential, points of the curve (on both
  * surfaces within tol / 16) between consecutive points whose chord's midpoint lies farther
  * than chord from it, until none does: the tracer bounds the sagitta within each patch pair,

@@ -10,8 +10,7 @@
 #include "brep/geom.h"
 #include "ssi/spline.h"
 
-/* Newton iterations of the foot point and of the valley corrector. */
-#define FOOT_ITERS 30
+/* Newton iterations of the valley corrector. */
 #define VALLEY_ITERS 40
 /* Largest number of points of one traced curve, and of curves in one band. */
 #define MAX_POINTS 100000
@@ -35,41 +34,21 @@ typedef struct {
 
 static double clampd(double x, double lo, double hi) { return x < lo ? lo : x > hi ? hi : x; }
 
-/* The foot of p->X on Q by Newton's method on the squared distance from p->st (clamped to Q's
- * domain). 1 when it converged inside Q's domain, -1 when the nearest point lies on a side of
- * Q's domain (P goes on past Q there), 0 when it did not converge. d receives Q's derivatives
- * at the foot. */
+/* The foot of p->X on Q from p->st (_cb_ssi_nurbs_project, warm). 1 when it lies inside Q's
+ * domain or on a side with X not beyond it, -1 when it lies on a side with X beyond it (P goes
+ * on past Q's end there), 0 when no distance was found. d receives Q's derivatives there. */
 static int foot(const band *b, vpt *p, double d[6][3])
 {
-    const double wq[2] = {b->dq[1] - b->dq[0], b->dq[3] - b->dq[2]};
-    for (int it = 0; it < FOOT_ITERS; it++) {
-        cb_nurbs_surface_eval_derivs(d, b->Q, p->st[0], p->st[1]);
-        double r[3] = {p->X[0] - d[0][0], p->X[1] - d[0][1], p->X[2] - d[0][2]};
-        double a11 = cb_vec3_dot(d[1], d[1]) - cb_vec3_dot(r, d[3]);
-        double a12 = cb_vec3_dot(d[1], d[2]) - cb_vec3_dot(r, d[4]);
-        double a22 = cb_vec3_dot(d[2], d[2]) - cb_vec3_dot(r, d[5]);
-        double g1 = cb_vec3_dot(d[1], r), g2 = cb_vec3_dot(d[2], r);
-        double det = a11 * a22 - a12 * a12;
-        if (!(det > 0) || !(a11 > 0))
-            return 0;
-        double step[2] = {(a22 * g1 - a12 * g2) / det, (a11 * g2 - a12 * g1) / det};
-        double n[2] = {clampd(p->st[0] + step[0], b->dq[0], b->dq[1]),
-                       clampd(p->st[1] + step[1], b->dq[2], b->dq[3])};
-        int clamped = n[0] != p->st[0] + step[0] || n[1] != p->st[1] + step[1];
-        /* Newton converges quadratically: after a step of 1e-10 of the domain the foot is
-         * as good as rounding lets it be. */
-        int still = fabs(n[0] - p->st[0]) <= 1e-10 * wq[0] &&
-                    fabs(n[1] - p->st[1]) <= 1e-10 * wq[1];
-        p->st[0] = n[0];
-        p->st[1] = n[1];
-        if (still) {
-            if (clamped)
-                return -1;
-            cb_nurbs_surface_eval_derivs(d, b->Q, p->st[0], p->st[1]);
-            return 1;
-        }
+    if (!isfinite(_cb_ssi_nurbs_project(p->st, b->Q, p->X, 1)))
+        return 0;
+    cb_nurbs_surface_eval_derivs(d, b->Q, p->st[0], p->st[1]);
+    double r[3] = {p->X[0] - d[0][0], p->X[1] - d[0][1], p->X[2] - d[0][2]};
+    for (int k = 0; k < 2; k++) {
+        double g = cb_vec3_dot(d[1 + k], r);
+        if ((p->st[k] <= b->dq[2 * k] && g < 0) || (p->st[k] >= b->dq[2 * k + 1] && g > 0))
+            return -1;
     }
-    return 0;
+    return 1;
 }
 
 /* p at p->uv (st: the foot's start): X, foot, D, g and H. 1 on success, -1 when the foot lies

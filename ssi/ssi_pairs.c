@@ -314,12 +314,8 @@ static void grid_param(double uv[2], const cb_nurbs_surface_struct *pat, int k)
     uv[1] = d[2] + (d[3] - d[2]) * (g % 5) / 4.0;
 }
 
-/* Distance from X to the Bezier patch pat, and the parameters uv of the nearest point found:
- * the nearest of a 9 x 9 grid (or uv itself when warm), then Gauss-Newton clamped to the
- * domain (at most 30 steps, each kept only when the distance drops). An upper bound on the
- * distance to the patch. */
-static double patch_project(double uv[2], const cb_nurbs_surface_struct *pat, const double X[3],
-                            int warm)
+double _cb_ssi_nurbs_project(double uv[2], const cb_nurbs_surface_struct *pat, const double X[3],
+                             int warm)
 {
     double d[4], P[3], best = HUGE_VAL;
     cb_nurbs_surface_domain(pat, d);
@@ -401,7 +397,7 @@ static void job_orientation(pair_job *J, const pair_ctx *c)
         grid_param(uv, q, k);
         cb_nurbs_surface_eval(X, q, uv[0], uv[1]);
         if (c->ppat) {
-            dist = patch_project(pv, c->ppat + J->ip, X, 0);
+            dist = _cb_ssi_nurbs_project(pv, c->ppat + J->ip, X, 0);
         } else {
             _cb_ssi_analytic_invert(pv, &c->Ps->analytic, X);
             cb_analytic_eval(Y, &c->Ps->analytic, pv[0], pv[1]);
