@@ -260,11 +260,18 @@ static int node_add(tree *T)
 static void tree_clear(tree *T);
 
 /* Split fractions: away from 1/2 (designs put features on parameter midpoints: a node or a
- * branch on a split line leaves every sub-pair along it with roots on its sides), and different
- * for the two patches (two patches parameterised alike would otherwise get sides that meet
- * where a branch crosses both), by the golden section's offset. */
-#define SPLIT_LO 0.4618033988749895
-#define SPLIT_HI 0.5381966011250105
+ * branch on a split line leaves every sub-pair along it with roots on its sides), and
+ * different for the two patches, also after reversing a direction (two patches parameterised
+ * alike, up to a transposition or a reversal, as patches sharing knot lines are, would
+ * otherwise get split lines that meet where a branch crosses both: a boundary root on a side of
+ * both sub-patches, ambiguous in every sub-pair along the branch). P's fractions lie in
+ * Q(sqrt 5) (the golden section's offset), Q's in Q(sqrt 2): no split line of one is a split line
+ * of the other, reversed or not, unless both are rational (the fields share only the
+ * rationals). */
+#define SPLIT_LO 0.4618033988749895   /* 1/2 - (2 - golden ratio)/10 */
+#define SPLIT_HI 0.5381966011250105   /* 1 - SPLIT_LO */
+#define SPLIT_Q_LO 0.4528595479208968 /* 1/2 - sqrt(2)/30 */
+#define SPLIT_Q_HI 0.5471404520791032 /* 1 - SPLIT_Q_LO */
 
 /* The tree of b with its root, split at the fractions (fu, fv); -1 when out of memory (nothing
  * held). */
@@ -1281,7 +1288,7 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
     memset(st, 0, sizeof(*st));
     tree TP, TQ;
     int okp = tree_init(&TP, P, SPLIT_LO, SPLIT_HI) == 0,
-        okq = tree_init(&TQ, Q, SPLIT_HI, SPLIT_LO) == 0;
+        okq = tree_init(&TQ, Q, SPLIT_Q_HI, SPLIT_Q_LO) == 0;
     double floor_w = ldexp(1.0, -o->max_depth);
     long alloc = 64, sp = 0;
     int(*stack)[2] = malloc((size_t)alloc * sizeof(*stack));

@@ -176,7 +176,7 @@ static void bump_box(const char *path, double z0, int dir, double h)
 }
 
 /* An operation the Booleans do not handle: two boxes whose bicubic bumps touch at one point,
- * at a tolerance of 1e-10 (bicubic against bicubic: the subdivision route cannot separate the
+ * at a tolerance of 1e-12 (bicubic against bicubic: the subdivision route cannot separate the
  * two surfaces where they are parallel at the contact, and its budget runs out before the
  * contact region shrinks to the tolerance, where it would be resolved as one point; at the
  * default tolerance it is): exit 1, the message says why, and the report says error. The stacked crosses (arms tangent along lines) give a union that touches
@@ -191,7 +191,7 @@ static void test_unsupported(void)
     snprintf(args, sizeof args, "bool intersection %s %s -o %s", a, b,
              at(out, sizeof out, "c.stl"));
     cli_expect(args, 0, "volume 0, area 0");
-    snprintf(args, sizeof args, "bool intersection %s %s -o %s --json %s --tol 1e-10", a, b,
+    snprintf(args, sizeof args, "bool intersection %s %s -o %s --json %s --tol 1e-12", a, b,
              at(out, sizeof out, "c.stl"), at(rep, sizeof rep, "c.json"));
     cli_expect(args, 1, "could not be intersected with certainty");
     const char *text = slurp(rep);
