@@ -172,13 +172,14 @@ typedef struct {
     int max_depth;     /* floor: sub-patches are not split below width 2^-max_depth */
     long max_subpairs; /* work budget per patch pair */
     double tol, chord, max_seg;
+    long max_edge_boxes; /* and of the boundary-root searches' boxes; 0: not bounded */
     int band; /* 1: a sub-pair without a direction that is proved within tol of the other
                  (slab_within) is not split further at any size, so that a tangential curve's
                  contact band is covered by sub-pairs of the slab's size, not of STOP_TOL tol
-                 (the caller's second pass when the budget ran out); the boxes of its
-                 boundary-root searches then count against max_subpairs as well, and it
-                 stops at the first sub-pair left uncertified (the caller keeps it only
-                 when none is) */
+                 (the caller's second pass when the budget ran out); it stops at the first
+                 sub-pair left uncertified (the caller keeps it only when none is). Other
+                 runs stop once a cluster of their tangent sub-pairs is wider than
+                 WT_MAX_TOL tol (only a band run resolves it) */
 } _cb_ssi_spline_opts;
 
 typedef struct {
@@ -194,6 +195,8 @@ typedef struct {
     int nomem;                 /* 1: memory ran out, the pair stopped (reported uncertified) */
     long unresolved;           /* sub-pairs left for _cb_ssi_tiny_resolve (see below) */
     long edge_boxes;           /* boxes of the boundary root searches (_cb_ssi_edge_roots) */
+    int wide;                  /* 1: the first run stopped at a tangent cluster wider than the
+                                  near-node bound (its rest reported over budget) */
 } _cb_ssi_spline_stats;
 
 /* A sub-pair the tests could not certify, left at the 3D floor (both sub-patches within tol / 8)
@@ -230,14 +233,22 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *stats, co
                          const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o,
                          _cb_ssi_tiny_set *tiny, int job);
 
+/* 1 when a cluster of tiny (as _cb_ssi_tiny_resolve groups them) is wider than the near-node
+ * bound (WT_MAX_TOL tol) and holds an end of a piece of pieces: a branch running into what
+ * the band run left as a band (a near-tangent node or cusp seen coarsely), which that rule
+ * refuses; 0 when none is, -1 when out of memory. */
+int _cb_ssi_tiny_wide_end(const _cb_ssi_piece_set *pieces, const _cb_ssi_tiny_set *tiny,
+                          double tol);
+
 /* A tangent region resolved within the tolerance by _cb_ssi_tiny_resolve: its 3D box and
  * diameter, the point (of both surfaces, parameters in the domains, P's uv and Q's st) its piece
- * ends moved onto, how many did (0: it is an isolated contact point), whether every member was
- * proved within tol of the other surface (slab), and the pair of its first member. */
+ * ends moved onto, how many did, whether no branch ends in it or passes it (lone: an isolated
+ * contact point, unless within WT_MAX_TOL tol of a region branches end in), whether every
+ * member was proved within tol of the other surface (slab), and the pair of its first member. */
 typedef struct {
     double lo[3], hi[3], width;
     double X[3], uv[2], st[2];
-    int ends, slab;
+    int ends, slab, lone;
     slong job;
 } _cb_ssi_tiny_region;
 

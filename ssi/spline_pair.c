@@ -25,6 +25,10 @@
 #define TINY_TOL 0.125
 #define STOP_TOL 8.0
 #define WT_MAX_TOL 1000.0
+/* The first run measures its tangent clusters each time this many sub-pairs have joined them
+ * (a band's sub-pairs come along its curve in the depth-first order, so a band passes
+ * WT_MAX_TOL tol after a few hundred). */
+#define TINY_CHECK 256
 
 /* ---------------------------------------------------------------- sub-patches -------------- */
 
@@ -1055,6 +1059,127 @@ static int band_has_end(const _cb_ssi_piece_set *sets, slong nsets, _cb_ssi_tiny
     return 0;
 }
 
+/* The clusters of the n entries t: boxes that meet within a tenth of the tolerance are one
+ * cluster. root[i] gets the smallest index of i's cluster. Sorted by low x (an index array:
+ * t keeps its order), each box is compared with those after it that start before it ends in
+ * x. -1 when out of memory. */
+typedef struct {
+    double x;
+    slong i;
+} lo_key;
+
+static int cmp_lo_key(const void *x, const void *y)
+{
+    const lo_key *a = x, *b = y;
+    if (a->x != b->x)
+        return a->x < b->x ? -1 : 1;
+    return (a->i > b->i) - (a->i < b->i);
+}
+
+static slong key_find(slong *root, slong k)
+{
+    while (root[k] != k) {
+        root[k] = root[root[k]];
+        k = root[k];
+    }
+    return k;
+}
+
+static int tiny_clusters(slong *root, const _cb_ssi_tiny *t, slong n, double tol)
+{
+    lo_key *key = malloc((size_t)n * sizeof *key);
+    if (!key)
+        return -1;
+    for (slong i = 0; i < n; i++) {
+        key[i].x = t[i].lo[0];
+        key[i].i = i;
+        root[i] = i;
+    }
+    qsort(key, (size_t)n, sizeof *key, cmp_lo_key);
+    for (slong a = 0; a < n; a++)
+        for (slong b = a + 1; b < n && key[b].x <= t[key[a].i].hi[0] + 0.1 * tol; b++)
+            if (boxes_meet(t + key[a].i, t + key[b].i, 0.1 * tol)) {
+                slong ra = key_find(root, key[a].i), rb = key_find(root, key[b].i);
+                if (ra != rb)
+                    root[ra > rb ? ra : rb] = ra < rb ? ra : rb;
+            }
+    for (slong i = 0; i < n; i++)
+        root[i] = key_find(root, i);
+    free(key);
+    return 0;
+}
+
+/* The widest 3D diameter of the clusters of the n entries t; -1 when out of memory. */
+static double tiny_widest(const _cb_ssi_tiny *t, slong n, double tol)
+{
+    slong *root = malloc((size_t)n * sizeof *root);
+    double *box = malloc((size_t)n * 6 * sizeof *box);
+    if (!root || !box || tiny_clusters(root, t, n, tol)) {
+        free(root);
+        free(box);
+        return -1;
+    }
+    for (slong i = 0; i < n; i++)
+        for (int q = 0; q < 3; q++) {
+            box[6 * i + q] = HUGE_VAL;
+            box[6 * i + 3 + q] = -HUGE_VAL;
+        }
+    for (slong i = 0; i < n; i++)
+        for (int q = 0; q < 3; q++) {
+            double *b = box + 6 * root[i];
+            b[q] = fmin(b[q], t[i].lo[q]);
+            b[3 + q] = fmax(b[3 + q], t[i].hi[q]);
+        }
+    double widest = 0;
+    for (slong i = 0; i < n; i++)
+        if (root[i] == i) {
+            double d2 = 0;
+            for (int q = 0; q < 3; q++)
+                d2 += (box[6 * i + 3 + q] - box[6 * i + q]) * (box[6 * i + 3 + q] - box[6 * i + q]);
+            widest = fmax(widest, sqrt(d2));
+        }
+    free(root);
+    free(box);
+    return widest;
+}
+
+int _cb_ssi_tiny_wide_end(const _cb_ssi_piece_set *pieces, const _cb_ssi_tiny_set *tiny,
+                          double tol)
+{
+    slong n = tiny->n;
+    if (n == 0)
+        return 0;
+    _cb_ssi_tiny *t = malloc((size_t)n * sizeof *t);
+    slong *root = malloc((size_t)n * sizeof *root);
+    if (!t || !root || tiny_clusters(root, tiny->t, n, tol)) {
+        free(t);
+        free(root);
+        return -1;
+    }
+    memcpy(t, tiny->t, (size_t)n * sizeof *t);
+    for (slong i = 0; i < n; i++)
+        t[i].root = (int)root[i];
+    free(root);
+    int found = 0;
+    for (slong c = 0; c < n && !found; c++) {
+        if (t[c].root != c)
+            continue;
+        double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+        for (slong i = c; i < n; i++)
+            if (t[i].root == c)
+                for (int q = 0; q < 3; q++) {
+                    lo[q] = fmin(lo[q], t[i].lo[q]);
+                    hi[q] = fmax(hi[q], t[i].hi[q]);
+                }
+        double d2 = 0;
+        for (int q = 0; q < 3; q++)
+            d2 += (hi[q] - lo[q]) * (hi[q] - lo[q]);
+        found = sqrt(d2) > WT_MAX_TOL * tol && band_has_end(pieces, 1, t, n, c, tol);
+    }
+    free(t);
+    return found;
+}
+
 int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tiny_set *tiny,
                          char *bad, long *unres, double tol, long *regions, long *nodes,
                          double *width, _cb_ssi_tiny_region **out, slong *nout, char *within,
@@ -1078,21 +1203,20 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
             t[nt].root = (int)nt;
             nt++;
         }
-    /* Boxes that meet (within a tenth of the tolerance) are one cluster: sorted by their low x
-     * (ties by the order they came in, so the result does not depend on threads), each is
-     * compared with those after it that start before it ends in x. */
+    /* Sorted by their low x, ties by the order they came in (so the result does not depend
+     * on threads), then clustered (tiny_clusters). */
     for (slong i = 0; i < nt; i++)
         t[i].root = (int)i;
     qsort(t, (size_t)nt, sizeof *t, cmp_tiny);
+    slong *croot = malloc((size_t)nt * sizeof *croot);
+    if (!croot || tiny_clusters(croot, t, nt, tol)) {
+        free(croot);
+        free(t);
+        return -1;
+    }
     for (slong i = 0; i < nt; i++)
-        t[i].root = (int)i;
-    for (slong i = 0; i < nt; i++)
-        for (slong j = i + 1; j < nt && t[j].lo[0] <= t[i].hi[0] + 0.1 * tol; j++)
-            if (boxes_meet(t + i, t + j, 0.1 * tol)) {
-                int a = tiny_find(t, (int)i), b = tiny_find(t, (int)j);
-                if (a != b)
-                    t[a > b ? a : b].root = a < b ? a : b;
-            }
+        t[i].root = (int)croot[i];
+    free(croot);
     int st = 0;
     for (slong c = 0; c < nt && st == 0; c++) {
         if (tiny_find(t, (int)c) != c)
@@ -1150,6 +1274,7 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
                 memcpy(rg->st, t[c].st, sizeof rg->st);
                 rg->slab = 1;
                 rg->ends = 0;
+                rg->lone = 0;
                 rg->job = t[c].job;
                 for (slong i = c; i < nt; i++)
                     if (tiny_find(t, (int)i) == c)
@@ -1260,22 +1385,48 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
                 }
             }
         }
-        /* No end and no branch through it: one isolated contact point. A region a branch
-         * runs through or beside (surfaces crossing at a small angle near it) is that
-         * branch's. */
-        if (ends == 0 && !touched) {
-            _cb_ssi_piece *pc = _cb_ssi_piece_set_add(sets + t[c].job);
-            if (!pc || _cb_ssi_piece_push(pc, &node_pq, X) != CB_OK) {
-                st = -1;
-            } else {
-                pc->isolated = pc->tangential = 1;
-                pc->end[0].region = rid;
-            }
-        }
+        /* No end and no branch through it: one isolated contact point, unless it lies
+         * near a region branches end in (below). A region a branch runs through or beside
+         * (surfaces crossing at a small angle near it) is that branch's. */
+        rg->lone = ends == 0 && !touched;
         rg->ends = ends;
         (*regions)++;
         *nodes += ends > 0;
         *width = fmax(*width, diam);
+    }
+    /* A lone region within WT_MAX_TOL tol of a region that branch ends joined (a pocket
+     * where the surfaces stay within tol beside a cusp's or node's region, separated from it
+     * by sub-pairs proved apart) is part of that feature within the tolerance; the others
+     * are isolated contact points. */
+    for (slong g = 0; g < *nout && st == 0; g++) {
+        _cb_ssi_tiny_region *rg = *out + g;
+        if (!rg->lone)
+            continue;
+        int near = 0;
+        for (slong h = 0; h < *nout && !near; h++) {
+            const _cb_ssi_tiny_region *o = *out + h;
+            if (h == g || o->ends == 0)
+                continue;
+            double d2 = 0;
+            for (int q = 0; q < 3; q++) {
+                double gap = fmax(o->lo[q] - rg->hi[q], rg->lo[q] - o->hi[q]);
+                d2 += gap > 0 ? gap * gap : 0;
+            }
+            near = sqrt(d2) <= WT_MAX_TOL * tol;
+        }
+        if (near)
+            continue;
+        _cb_ssi_pq pq;
+        memset(&pq, 0, sizeof pq);
+        memcpy(pq.uv, rg->uv, sizeof pq.uv);
+        memcpy(pq.st, rg->st, sizeof pq.st);
+        _cb_ssi_piece *pc = _cb_ssi_piece_set_add(sets + rg->job);
+        if (!pc || _cb_ssi_piece_push(pc, &pq, rg->X) != CB_OK) {
+            st = -1;
+        } else {
+            pc->isolated = pc->tangential = 1;
+            pc->end[0].region = g;
+        }
     }
     free(t);
     return st;
@@ -1308,13 +1459,28 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
     sp++;
     /* A band run is kept only when it leaves nothing uncertified (ssi_pairs.c): once one
      * sub-pair is, the rest is not needed. */
+    /* A run that is not the band run gives up once a cluster of its tangent sub-pairs is
+     * wider than WT_MAX_TOL tol: it could resolve it only as a contact band, which the band
+     * run covers with far fewer sub-pairs (checked each time TINY_CHECK more have come). */
+    slong tiny0 = tiny->n, tiny_seen = tiny->n;
+    int wide = 0;
     while (sp > 0 && !st->nomem && !(o->band && st->uncertified > 0)) {
+        if (!o->band && !wide && tiny->n - tiny_seen >= TINY_CHECK) {
+            tiny_seen = tiny->n;
+            double w = tiny_widest(tiny->t + tiny0, tiny->n - tiny0, o->tol);
+            if (w < 0) {
+                st->nomem = 1;
+                break;
+            }
+            wide = st->wide = w > WT_MAX_TOL * o->tol;
+        }
         sp--;
         int ia = stack[sp][0], ib = stack[sp][1];
-        /* In a band run the boundary-root searches' boxes count against the budget too:
-         * a band is crossed by slabs, and where roots cost the work (curves along patch
-         * sides: 45 boxes per sub-pair against under 7) the second run would only be long. */
-        if (st->subpairs >= o->max_subpairs || (o->band && st->edge_boxes >= o->max_subpairs)) {
+        /* The boundary-root searches' boxes have a budget too (the band run's: a band is
+         * crossed by slabs, and where roots cost the work, curves along patch sides at 45
+         * boxes per sub-pair against under 7, the second run would only be long). */
+        if (wide || st->subpairs >= o->max_subpairs ||
+            (o->max_edge_boxes > 0 && st->edge_boxes >= o->max_edge_boxes)) {
             uncertified(st, TP.nd + ia, TQ.nd + ib);
             /* A region left open here: a tangent region meeting it is not resolved. */
             if (tiny_add(tiny, TP.nd + ia, TQ.nd + ib, P, Q, 0, 0, job))

@@ -122,6 +122,17 @@ typedef struct {
                                    along a tangential curve, then traced: ssi/README.md,
                                    "Outcomes"), kept when it leaves nothing uncertified;
                                    default 200000; 0: no second run */
+    slong spline_node_subpairs; /* subdivision route: where that second run is kept but a
+                                   region it left wider than the near-node bound (1000 tol)
+                                   holds a branch end (a near-tangent node or cusp seen
+                                   coarsely, which would be refused), the first run again
+                                   with this budget (and the boundary-root boxes of all
+                                   three runs held to 14 per sub-pair of it: not run when
+                                   the first two used half), stopping once such a region is
+                                   wider than the bound; kept when it leaves nothing
+                                   uncertified; default
+                                   150000 (a bicubic node in a generic pose takes about
+                                   35000, a cusp 100000); 0: no third run */
     int recognise; /* 1 (default): B-spline faces proved to lie on planes, cylinders, spheres
                       or cones (within 1e-3 tol) take the analytic closed forms when one
                       decides the pair (ssi_recog.c); 0: always the B-spline routes */

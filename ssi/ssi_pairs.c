@@ -39,6 +39,7 @@ void cb_ssi_opts_default(cb_ssi_opts *o)
     o->spline_max_depth = 30;
     o->spline_max_subpairs = 20000;
     o->spline_band_subpairs = 200000;
+    o->spline_node_subpairs = 150000;
     o->recognise = 1;
     o->cancel = NULL;
     o->progress = NULL;
@@ -130,6 +131,10 @@ typedef struct {
  * hyperbolic paraboloid of the patch's noise, and the inversion that clips to it
  * ill-conditioned). */
 #define NEAR_PLANAR 1e-12
+/* Boundary-root boxes per sub-pair of the third run's budget, for all three runs of a pair
+ * together (a bicubic node in a generic pose takes about 1.8 million over them, a cusp 1.1
+ * million). */
+#define NODE_EDGE_BOXES 14
 
 /* The three corners (homogeneous) of a net spanning the largest triangle, when every control
  * point is within NEAR_PLANAR of their plane; 0 otherwise. */
@@ -456,7 +461,7 @@ static void spline_run(pair_job *J, const pair_ctx *c)
         return;
     }
     _cb_ssi_spline_opts so = {c->opts->spline_max_depth, c->opts->spline_max_subpairs, c->tol,
-                              c->chord, c->max_seg, 0};
+                              c->chord, c->max_seg, 0, 0};
     _cb_ssi_spline_pair(&J->pieces, &J->sst, &P, &Q, &so, &J->tiny, (int)(J - c->job));
     const _cb_ssi_spline_stats *s = &J->sst;
     /* The budget ran out: again, with the band budget and sub-pairs proved within tol of each
@@ -475,7 +480,7 @@ static void spline_run(pair_job *J, const pair_ctx *c)
         _cb_ssi_piece_set_init(&J->pieces);
         _cb_ssi_tiny_set_init(&J->tiny);
         so.band = 1;
-        so.max_subpairs = c->opts->spline_band_subpairs;
+        so.max_subpairs = so.max_edge_boxes = c->opts->spline_band_subpairs;
         _cb_ssi_spline_pair(&J->pieces, &J->sst, &P, &Q, &so, &J->tiny, (int)(J - c->job));
         /* Either way, both runs' sub-pairs count as examined. */
         long both = first_st.subpairs + J->sst.subpairs;
@@ -490,6 +495,43 @@ static void spline_run(pair_job *J, const pair_ctx *c)
             _cb_ssi_tiny_set_clear(&first_tiny);
         }
         J->sst.subpairs = both;
+        /* The band run kept, but a cluster of it wider than the near-node bound holds a
+         * branch end: a near-tangent node or cusp seen coarsely, which the tangent-region rule
+         * refuses. The fine run again, with the larger budget these need, kept when it leaves
+         * nothing uncertified. */
+        int wide = J->sst.uncertified == 0 && !J->sst.nomem && c->opts->spline_node_subpairs > 0
+                       ? _cb_ssi_tiny_wide_end(&J->pieces, &J->tiny, c->tol)
+                       : 0;
+        if (wide < 0)
+            J->sst.nomem = 1;
+        if (wide > 0 && NODE_EDGE_BOXES * c->opts->spline_node_subpairs >
+                            2 * (first_st.edge_boxes + J->sst.edge_boxes)) {
+            _cb_ssi_piece_set band = J->pieces;
+            _cb_ssi_tiny_set band_tiny = J->tiny;
+            _cb_ssi_spline_stats band_st = J->sst;
+            _cb_ssi_piece_set_init(&J->pieces);
+            _cb_ssi_tiny_set_init(&J->tiny);
+            so.band = 0;
+            so.max_subpairs = c->opts->spline_node_subpairs;
+            /* The pair's boundary-root boxes over all three runs are bounded: what the first
+             * two used is not given again (a node whose first run already took millions is
+             * left refused rather than run on for minutes). */
+            so.max_edge_boxes = NODE_EDGE_BOXES * c->opts->spline_node_subpairs -
+                                first_st.edge_boxes - band_st.edge_boxes;
+            _cb_ssi_spline_pair(&J->pieces, &J->sst, &P, &Q, &so, &J->tiny, (int)(J - c->job));
+            long all = both + J->sst.subpairs;
+            if (J->sst.uncertified > 0 && !J->sst.nomem) {
+                _cb_ssi_piece_set_clear(&J->pieces);
+                _cb_ssi_tiny_set_clear(&J->tiny);
+                J->pieces = band;
+                J->tiny = band_tiny;
+                J->sst = band_st;
+            } else {
+                _cb_ssi_piece_set_clear(&band);
+                _cb_ssi_tiny_set_clear(&band_tiny);
+            }
+            J->sst.subpairs = all;
+        }
     }
     if (s->nomem) {
         J->st = CB_ERR_NOMEM;

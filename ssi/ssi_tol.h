@@ -91,7 +91,12 @@
  * of the distance (ssi_band.c: every point within tol of both surfaces and in a member's box
  * grown by tol, every member's valley point within 2 chord + 10 tol of a curve, steps no
  * shorter than 4 tol; within_tolerance, the curves not certified). Other clusters are
- * refused. */
+ * refused. A cluster that no branch reaches or crosses is an isolated contact point, unless
+ * within WT_MAX_TOL tol of a region branch ends moved into (a pocket beside a cusp's or node's
+ * region: part of it). A Bezier pair's first run stops once one of its clusters is wider than
+ * WT_MAX_TOL tol (TINY_CHECK) and runs again as the band run; a band run that leaves such a
+ * cluster holding a branch end is followed by a third, fine run with the larger budget
+ * spline_node_subpairs (ssi_pairs.c). */
 
 /* ---------------------------------------------------------------- closed forms ------------ */
 
