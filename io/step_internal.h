@@ -57,6 +57,8 @@ typedef struct {
     X(AXIS1_PLACEMENT)                                                                          \
     X(AXIS2_PLACEMENT_2D)                                                                       \
     X(AXIS2_PLACEMENT_3D)                                                                       \
+    X(BEZIER_CURVE)                                                                             \
+    X(BEZIER_SURFACE)                                                                           \
     X(BREP_WITH_VOIDS)                                                                          \
     X(B_SPLINE_CURVE)                                                                           \
     X(B_SPLINE_CURVE_WITH_KNOTS)                                                                \
@@ -65,10 +67,13 @@ typedef struct {
     X(CARTESIAN_POINT)                                                                          \
     X(CIRCLE)                                                                                   \
     X(CLOSED_SHELL)                                                                             \
+    X(COMPOSITE_CURVE)                                                                          \
+    X(COMPOSITE_CURVE_SEGMENT)                                                                  \
     X(CONICAL_SURFACE)                                                                          \
     X(CONVERSION_BASED_UNIT)                                                                    \
     X(CYLINDRICAL_SURFACE)                                                                      \
     X(DEFINITIONAL_REPRESENTATION)                                                              \
+    X(DEGENERATE_TOROIDAL_SURFACE)                                                              \
     X(DIRECTION)                                                                                \
     X(EDGE_CURVE)                                                                               \
     X(EDGE_LOOP)                                                                                \
@@ -78,6 +83,7 @@ typedef struct {
     X(FACE_SURFACE)                                                                             \
     X(GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT)                                                      \
     X(GLOBAL_UNIT_ASSIGNED_CONTEXT)                                                             \
+    X(HYPERBOLA)                                                                                \
     X(INTERSECTION_CURVE)                                                                       \
     X(ITEM_DEFINED_TRANSFORMATION)                                                              \
     X(LENGTH_MEASURE_WITH_UNIT)                                                                 \
@@ -85,15 +91,21 @@ typedef struct {
     X(LINE)                                                                                     \
     X(MANIFOLD_SOLID_BREP)                                                                      \
     X(MEASURE_WITH_UNIT)                                                                        \
+    X(OFFSET_SURFACE)                                                                           \
     X(OPEN_SHELL)                                                                               \
     X(ORIENTED_CLOSED_SHELL)                                                                    \
     X(ORIENTED_EDGE)                                                                            \
+    X(PARABOLA)                                                                                 \
     X(PCURVE)                                                                                   \
     X(PLANE)                                                                                    \
     X(PLANE_ANGLE_MEASURE_WITH_UNIT)                                                            \
     X(PLANE_ANGLE_UNIT)                                                                         \
+    X(POLYLINE)                                                                                 \
+    X(QUASI_UNIFORM_CURVE)                                                                      \
+    X(QUASI_UNIFORM_SURFACE)                                                                    \
     X(RATIONAL_B_SPLINE_CURVE)                                                                  \
     X(RATIONAL_B_SPLINE_SURFACE)                                                                \
+    X(RECTANGULAR_TRIMMED_SURFACE)                                                              \
     X(REPRESENTATION_RELATIONSHIP)                                                              \
     X(REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION)                                          \
     X(SEAM_CURVE)                                                                               \
@@ -105,7 +117,10 @@ typedef struct {
     X(SURFACE_OF_LINEAR_EXTRUSION)                                                              \
     X(SURFACE_OF_REVOLUTION)                                                                    \
     X(TOROIDAL_SURFACE)                                                                         \
+    X(TRIMMED_CURVE)                                                                            \
     X(UNCERTAINTY_MEASURE_WITH_UNIT)                                                            \
+    X(UNIFORM_CURVE)                                                                            \
+    X(UNIFORM_SURFACE)                                                                          \
     X(VECTOR)                                                                                   \
     X(VERTEX_LOOP)                                                                              \
     X(VERTEX_POINT)
@@ -167,6 +182,12 @@ typedef struct {
     double angle_rad;
     double length_mm;
     double uncertainty;
+    /* The range of a curve that has no finite exact form without one (PARABOLA, HYPERBOLA):
+     * the trims of a TRIMMED_CURVE around it (bound_kind 2: parameters, 1: points), else the
+     * vertices of the edge being mapped (bound_kind 1, bound_from_edge); bound_used is set
+     * when a curve took its range from the edge, so that it is not shared with other edges. */
+    int bound_kind, bound_from_edge, bound_used;
+    double bound_pt[2][3], bound_t[2];
     cb_topo_body *body;
     cb_error *err;     /* where messages go */
 } step_file;
@@ -250,9 +271,11 @@ cb_status step_direction(step_file *f, const step_rec *r, int dim, double d[3]);
 /* An AXIS2_PLACEMENT_3D (dim 3) or AXIS2_PLACEMENT_2D in the z = 0 plane (dim 2). */
 cb_status step_frame(step_file *f, const step_rec *r, int dim, cb_frame *out);
 
-/* A curve entity (LINE, CIRCLE, ELLIPSE, B-spline, or SURFACE_CURVE / SEAM_CURVE /
- * INTERSECTION_CURVE, taken as their 3D curve) as a cb_topo_curve; dim 2 for pcurves, which
- * live in parameter space. out must be initialised; on failure it is left initialised. */
+/* A curve entity (LINE, CIRCLE, ELLIPSE, B-spline, PARABOLA and HYPERBOLA as exact rational
+ * quadratics over their range (f->bound_*), TRIMMED_CURVE as its basis curve run in the
+ * trimmed curve's sense, or SURFACE_CURVE / SEAM_CURVE / INTERSECTION_CURVE, taken as their
+ * 3D curve) as a cb_topo_curve; dim 2 for pcurves, which live in parameter space. out must be
+ * initialised; on failure it is left initialised. */
 cb_status step_curve(step_file *f, const step_rec *r, int dim, cb_topo_curve *out);
 cb_status step_surface(step_file *f, const step_rec *r, cb_topo_surface *out);
 

@@ -120,7 +120,18 @@ static cb_status expect_char(lexer *lx, char want, const char *context)
     return CB_OK;
 }
 
-/* A keyword [A-Za-z_][A-Za-z0-9_-]* at the cursor; *len 0 when there is none. */
+/* Upper-cases n bytes of the buffer at off: ISO 10303-21 writes keywords and enumerations in
+ * upper case, but writers exist that do not (`Header;`, `EndSec;`), and every later comparison
+ * (entity types, unit names, enumerations) is then made in one case. */
+static void to_upper(lexer *lx, size_t off, size_t n)
+{
+    char *s = lx->f->buf + off;
+    for (size_t k = 0; k < n; k++)
+        if (s[k] >= 'a' && s[k] <= 'z')
+            s[k] = (char)(s[k] - 'a' + 'A');
+}
+
+/* A keyword [A-Za-z_][A-Za-z0-9_-]* at the cursor, upper-cased; *len 0 when there is none. */
 static void keyword(lexer *lx, int *off, int *len)
 {
     size_t p = lx->pos;
@@ -129,6 +140,7 @@ static void keyword(lexer *lx, int *off, int *len)
                                is_digit((unsigned char)lx->s[p]) || lx->s[p] == '-'))
             p++;
     }
+    to_upper(lx, lx->pos, p - lx->pos);
     *off = (int)lx->pos;
     *len = (int)(p - lx->pos);
     lx->pos = p;
@@ -239,6 +251,8 @@ static cb_status delimited(lexer *lx, step_kind kind, char close)
     int k = new_node(lx, kind);
     if (k < 0)
         return no_memory(lx);
+    if (kind == STEP_ENUM)
+        to_upper(lx, lx->pos, p - lx->pos);
     step_node *x = &lx->f->nodes[k];
     x->line = start_line;
     x->v.text.off = (int)lx->pos;

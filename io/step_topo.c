@@ -73,10 +73,12 @@ static cb_status edge_curve_geometry(step_file *f, const step_rec *r, int *out)
     int c = cb_topo_body_add_curve(f->body);
     if (c < 0)
         return no_memory(f);
+    f->bound_used = 0;
     cb_status st = step_curve(f, r, 3, &f->body->curves[c]);
     if (st)
         return st;
-    *out = memo_set(f, k, STEP_MEMO_CURVE, c);
+    /* A curve bounded by this edge's vertices (a parabola) is this edge's alone. */
+    *out = f->bound_used ? c : memo_set(f, k, STEP_MEMO_CURVE, c);
     return CB_OK;
 }
 
@@ -146,7 +148,12 @@ static cb_status edge(step_file *f, const step_rec *r, int *out)
     x = step_next(step_next(x));
     if ((st = step_get_ref(f, r, x, "edge_geometry", &g)) || (st = step_enter(f, r)))
         return st;
+    f->bound_kind = 1;
+    f->bound_from_edge = 1;
+    memcpy(f->bound_pt[0], f->body->vertices[iv0].p, sizeof f->bound_pt[0]);
+    memcpy(f->bound_pt[1], f->body->vertices[iv1].p, sizeof f->bound_pt[1]);
     st = edge_curve_geometry(f, g, &ic);
+    f->bound_kind = f->bound_from_edge = 0;
     step_leave(f, r);
     if (st || (st = step_get_bool(f, r, step_next(x), "same_sense", &same)))
         return st;

@@ -60,6 +60,43 @@ static const struct {
                    {"DECI", 1e-1}, {"CENTI", 1e-2}, {"MILLI", 1e-3},  {"MICRO", 1e-6},
                    {"NANO", 1e-9}, {"PICO", 1e-12}, {"FEMTO", 1e-15}, {"ATTO", 1e-18}};
 
+/* The value and unit of a measure with unit m: the MEASURE_WITH_UNIT(value, unit) part of a
+ * complex instance ((LENGTH_MEASURE_WITH_UNIT() MEASURE_WITH_UNIT(...)
+ * UNCERTAINTY_MEASURE_WITH_UNIT(name, description))), or the first two of the parameters of a
+ * simple LENGTH_, PLANE_ANGLE_ or UNCERTAINTY_MEASURE_WITH_UNIT, which inherit them. */
+static cb_status measure_with_unit(step_file *f, const step_rec *m, double *value,
+                                   const step_rec **unit)
+{
+    static const struct {
+        step_type t;
+        int n;
+    } forms[] = {{STEP_T_MEASURE_WITH_UNIT, 2},
+                 {STEP_T_LENGTH_MEASURE_WITH_UNIT, 2},
+                 {STEP_T_PLANE_ANGLE_MEASURE_WITH_UNIT, 2},
+                 {STEP_T_UNCERTAINTY_MEASURE_WITH_UNIT, 4}};
+    const step_part *p = NULL;
+    int n = 0;
+    for (size_t k = 0; k < sizeof forms / sizeof *forms && !p; k++) {
+        const step_part *q = step_part_of(f, m, forms[k].t);
+        /* in a complex instance the subtype parts hold only their own attributes */
+        if (q && f->nodes[q->args].n == forms[k].n) {
+            p = q;
+            n = forms[k].n;
+        }
+    }
+    if (!p)
+        return step_fail(f, m, NULL, CB_ERR_INVALID,
+                         "a measure with unit (value_component, unit_component) expected");
+    const step_node *a = step_args(f, m, p, n);
+    cb_status st;
+    if (!a)
+        return f->err->status;
+    if ((st = step_get_real(f, m, a, "value_component", value)) ||
+        (st = step_get_ref(f, m, step_next(a), "unit_component", unit)))
+        return st;
+    return CB_OK;
+}
+
 /* Size of the length unit u in millimetres (angle = 0) or of the angle unit in radians. */
 static cb_status unit_factor(step_file *f, const step_rec *u, int angle, int depth, double *out)
 {
@@ -103,21 +140,8 @@ static cb_status unit_factor(step_file *f, const step_rec *u, int angle, int dep
             return f->err->status;
         if ((st = step_get_ref(f, u, step_next(a), "conversion_factor", &m)))
             return st;
-        /* LENGTH_MEASURE_WITH_UNIT(value, unit), PLANE_ANGLE_..., or a complex instance with
-         * a MEASURE_WITH_UNIT part. */
-        const step_part *mp = step_part_of(f, m, STEP_T_MEASURE_WITH_UNIT);
-        if (!mp)
-            mp = step_part_of(f, m,
-                              angle ? STEP_T_PLANE_ANGLE_MEASURE_WITH_UNIT
-                                    : STEP_T_LENGTH_MEASURE_WITH_UNIT);
-        if (!mp)
-            return step_fail(f, m, NULL, CB_ERR_INVALID, "a measure with unit expected");
-        const step_node *ma = step_args(f, m, mp, 2);
         double value, base_factor;
-        if (!ma)
-            return f->err->status;
-        if ((st = step_get_real(f, m, ma, "value_component", &value)) ||
-            (st = step_get_ref(f, m, step_next(ma), "unit_component", &base)) ||
+        if ((st = measure_with_unit(f, m, &value, &base)) ||
             (st = unit_factor(f, base, angle, depth + 1, &base_factor)))
             return st;
         *out = value * base_factor;
@@ -168,24 +192,20 @@ cb_status step_units_for(step_file *f, const step_rec *item)
         const step_node *x = a + 1;
         for (int k = 0; k < a->n; k++, x = step_next(x)) {
             const step_rec *m, *u;
-            const step_node *ma;
             double value, mm;
             if ((st = step_get_ref(f, ctx, x, "uncertainty", &m)))
                 return st;
-            const step_part *mp = step_part_of(f, m, STEP_T_UNCERTAINTY_MEASURE_WITH_UNIT);
-            if (!mp)
+            if (!step_part_of(f, m, STEP_T_UNCERTAINTY_MEASURE_WITH_UNIT))
                 continue;
-            if (!(ma = step_args(f, m, mp, 4)))
-                return f->err->status;
-            if ((st = step_get_real(f, m, ma, "value_component", &value)) ||
-                (st = step_get_ref(f, m, step_next(ma), "unit_component", &u)))
+            if ((st = measure_with_unit(f, m, &value, &u)))
                 return st;
             if (!step_part_of(f, u, STEP_T_LENGTH_UNIT))
                 continue;
             if ((st = unit_factor(f, u, 0, 0, &mm)))
                 return st;
             if (!(value > 0) || !isfinite(value))
-                return step_fail(f, m, ma, CB_ERR_INVALID, "uncertainty %g is not positive", value);
+                return step_fail(f, m, NULL, CB_ERR_INVALID, "uncertainty %g is not positive",
+                                 value);
             f->uncertainty = value * mm / f->length_mm;
         }
     }
