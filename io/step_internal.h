@@ -90,6 +90,7 @@ typedef struct {
     X(LENGTH_UNIT)                                                                              \
     X(LINE)                                                                                     \
     X(MANIFOLD_SOLID_BREP)                                                                      \
+    X(MAPPED_ITEM)                                                                              \
     X(MEASURE_WITH_UNIT)                                                                        \
     X(OFFSET_SURFACE)                                                                           \
     X(OPEN_SHELL)                                                                               \
@@ -106,6 +107,7 @@ typedef struct {
     X(RATIONAL_B_SPLINE_CURVE)                                                                  \
     X(RATIONAL_B_SPLINE_SURFACE)                                                                \
     X(RECTANGULAR_TRIMMED_SURFACE)                                                              \
+    X(REPRESENTATION_MAP)                                                                       \
     X(REPRESENTATION_RELATIONSHIP)                                                              \
     X(REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION)                                          \
     X(SEAM_CURVE)                                                                               \
@@ -188,6 +190,9 @@ typedef struct {
      * when a curve took its range from the edge, so that it is not shared with other edges. */
     int bound_kind, bound_from_edge, bound_used;
     double bound_pt[2][3], bound_t[2];
+    /* The assembly structure, gathered when the first solid is placed (step_units.c). */
+    struct step_link *links;
+    int n_links, links_ready;
     cb_topo_body *body;
     cb_error *err;     /* where messages go */
 } step_file;
@@ -257,11 +262,16 @@ void step_leave(step_file *f, const step_rec *r);
 /* Sets f->length_mm, f->angle_rad and f->uncertainty from the context of the representation
  * holding `item` (a solid or shell model); defaults (mm, radian, 1e-6) when there is none. */
 cb_status step_units_for(step_file *f, const step_rec *item);
-/* The placement of the representation holding `item` in the root of its assembly (identity
- * for a part file): composes the ITEM_DEFINED_TRANSFORMATIONs of the representation
- * relationships up the tree. Only single-instance chains are followed: a representation used
- * twice in an assembly is placed by its first use. */
-cb_status step_placement_for(step_file *f, const step_rec *item, cb_xform *x);
+/* The placements of the representation holding `item` in the roots of its assembly: one per
+ * path up the assembly's tree, each the composition of the ITEM_DEFINED_TRANSFORMATIONs along
+ * it (just the identity for a part file). The tree's links are the representation
+ * relationships with a transformation (child rep_1, parent rep_2) and the MAPPED_ITEMs (the
+ * mapped representation placed by mapping_origin -> mapping_target into each shape
+ * representation holding the item); relationships without a transformation join
+ * representations of one shape, either way round. Placements equal to one already found are
+ * dropped: an item placed twice at one place is one instance (a MAPPED_ITEM held both by its
+ * occurrence's representation and by the master's). *out is a new array of *n (free it). */
+cb_status step_placements_for(step_file *f, const step_rec *item, cb_xform **out, int *n);
 
 /* ---------------------------------------------------------------- step_geom.c -------------- */
 

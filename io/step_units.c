@@ -5,6 +5,7 @@
  * surfaces; angles, which only enter the analytic geometry through the cone's semi-angle, are
  * converted to radians. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "io/step_internal.h"
@@ -265,79 +266,258 @@ static cb_status item_transform(step_file *f, const step_rec *t, cb_xform *x)
     return CB_OK;
 }
 
-/* A representation relationship touching rep (not to a visited one): the other end in *next
- * and, if it carries one, the transformation in *x (*moved = 1). Relationships go from child
- * (rep_1) to parent (rep_2); untransformed ones (linking a shape representation to its B-rep
- * representation) are followed either way, since writers differ in their order. */
-static cb_status next_rep(step_file *f, long rep, const long *visited, int n_visited, long *next,
-                          cb_xform *x, int *moved)
+/* One link of the assembly tree: the representation `child` placed in `parent` by x (child
+ * coordinates to parent coordinates), or, when !moved, two representations of one shape. */
+struct step_link {
+    long child, parent;
+    int moved;
+    cb_xform x;
+};
+
+enum { MAX_PLACEMENTS = 100000, MAX_COMPONENT = 4096 };
+
+static cb_status add_link(step_file *f, int *cap, long child, long parent, int moved,
+                          const cb_xform *x)
 {
+    if (f->n_links == *cap) {
+        int c = *cap ? 2 * *cap : 64;
+        struct step_link *l = realloc(f->links, (size_t)c * sizeof *l);
+        if (!l)
+            return cb_error_set(f->err, CB_ERR_NOMEM, "%s: out of memory", f->path);
+        f->links = l;
+        *cap = c;
+    }
+    struct step_link *l = &f->links[f->n_links++];
+    l->child = child;
+    l->parent = parent;
+    l->moved = moved;
+    if (x)
+        l->x = *x;
+    else
+        cb_xform_identity(&l->x);
+    return CB_OK;
+}
+
+/* MAPPED_ITEM(name, mapping_source, mapping_target): the mapped representation of
+ * REPRESENTATION_MAP(mapping_origin, mapped_representation) and the motion taking
+ * mapping_origin onto mapping_target. */
+static cb_status mapped_item(step_file *f, const step_rec *m, long *rep, cb_xform *x)
+{
+    const step_node *a = step_args(f, m, step_part_of(f, m, STEP_T_MAPPED_ITEM), 3);
+    const step_rec *src, *origin, *target, *mapped;
+    cb_status st;
+    if (!a)
+        return f->err->status;
+    if ((st = step_get_ref(f, m, step_next(a), "mapping_source", &src)) ||
+        (st = step_get_ref(f, m, step_next(step_next(a)), "mapping_target", &target)))
+        return st;
+    const step_part *mp = step_part_of(f, src, STEP_T_REPRESENTATION_MAP);
+    if (!mp)
+        return step_fail(f, src, NULL, CB_ERR_INVALID,
+                         "REPRESENTATION_MAP expected for the mapping source");
+    const step_node *ma = step_args(f, src, mp, 2);
+    if (!ma)
+        return f->err->status;
+    if ((st = step_get_ref(f, src, ma, "mapping_origin", &origin)) ||
+        (st = step_get_ref(f, src, step_next(ma), "mapped_representation", &mapped)))
+        return st;
+    if (!step_part_of(f, target, STEP_T_AXIS2_PLACEMENT_3D))
+        return step_fail(f, target, NULL, CB_ERR_UNSUPPORTED,
+                         "only AXIS2_PLACEMENT_3D mapping targets are supported (MAPPED_ITEM "
+                         "#%ld)",
+                         m->id);
+    cb_frame fr[2];
+    if ((st = step_frame(f, origin, 3, &fr[0])) || (st = step_frame(f, target, 3, &fr[1])))
+        return st;
+    cb_xform f1, f2;
+    frame_xform(&f1, &fr[0]);
+    frame_xform(&f2, &fr[1]);
+    xform_inverse(&f1, &f1);
+    cb_xform_compose(x, &f2, &f1);
+    *rep = mapped->id;
+    return CB_OK;
+}
+
+/* Gathers the links of the assembly tree (step_placements_for) once per file. */
+static cb_status gather_links(step_file *f)
+{
+    int cap = 0;
+    cb_status st;
     for (int k = 0; k < f->n_recs; k++) {
         const step_rec *r = &f->recs[k];
         const step_part *p = step_part_of(f, r, STEP_T_REPRESENTATION_RELATIONSHIP);
         if (!p)
             p = step_part_of(f, r, STEP_T_SHAPE_REPRESENTATION_RELATIONSHIP);
-        if (!p || f->nodes[p->args].n != 4)
-            continue;
-        const step_node *r1 = step_elem(&f->nodes[p->args], 2), *r2 = step_next(r1);
-        if (r1->kind != STEP_REF || r2->kind != STEP_REF)
-            continue;
-        const step_part *wt =
-            step_part_of(f, r, STEP_T_REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION);
-        long other;
-        if (r1->v.ref == rep)
-            other = r2->v.ref;
-        else if (r2->v.ref == rep && !wt)
-            other = r1->v.ref;
-        else
-            continue;
-        int seen = 0;
-        for (int j = 0; j < n_visited; j++)
-            seen |= visited[j] == other;
-        if (seen)
-            continue;
-        *next = other;
-        *moved = 0;
-        if (wt) {
-            const step_node *a = step_args(f, r, wt, 1);
-            const step_rec *t;
-            cb_status st;
-            if (!a)
-                return f->err->status;
-            if ((st = step_get_ref(f, r, a, "transformation_operator", &t)) ||
-                (st = item_transform(f, t, x)))
+        if (p && f->nodes[p->args].n == 4) {
+            const step_node *r1 = step_elem(&f->nodes[p->args], 2), *r2 = step_next(r1);
+            if (r1->kind != STEP_REF || r2->kind != STEP_REF)
+                continue;
+            const step_part *wt =
+                step_part_of(f, r, STEP_T_REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION);
+            cb_xform x;
+            if (wt) {
+                const step_node *a = step_args(f, r, wt, 1);
+                const step_rec *t;
+                if (!a)
+                    return f->err->status;
+                if ((st = step_get_ref(f, r, a, "transformation_operator", &t)) ||
+                    (st = item_transform(f, t, &x)))
+                    return st;
+            }
+            if ((st = add_link(f, &cap, r1->v.ref, r2->v.ref, wt != NULL, wt ? &x : NULL)))
                 return st;
-            *moved = 1;
+            continue;
         }
-        return CB_OK;
+        /* MAPPED_ITEMs among the items of a shape representation */
+        for (int j = 0; j < r->n_parts; j++) {
+            const step_part *q = &f->parts[r->part0 + j];
+            const step_node *list = &f->nodes[q->args];
+            if (q->type == STEP_T_DEFINITIONAL_REPRESENTATION ||
+                !ends_with(f->buf + q->name_off, q->name_len, "SHAPE_REPRESENTATION") ||
+                list->n != 3)
+                continue;
+            const step_node *items = step_elem(list, 1), *x = items + 1;
+            if (items->kind != STEP_LIST)
+                continue;
+            for (int i = 0; i < items->n; i++, x = step_next(x)) {
+                const step_rec *m = x->kind == STEP_REF ? step_find(f, x->v.ref) : NULL;
+                long child = 0;
+                cb_xform mx;
+                if (!m || m->complex || step_rec_type(f, m) != STEP_T_MAPPED_ITEM)
+                    continue;
+                if ((st = mapped_item(f, m, &child, &mx)) ||
+                    (st = add_link(f, &cap, child, r->id, 1, &mx)))
+                    return st;
+            }
+        }
     }
-    *next = 0;
+    f->links_ready = 1;
     return CB_OK;
 }
 
-cb_status step_placement_for(step_file *f, const step_rec *item, cb_xform *x)
+typedef struct {
+    cb_xform *x;
+    int n, cap;
+} placement_list;
+
+static int xform_equal(const cb_xform *a, const cb_xform *b)
 {
-    cb_xform_identity(x);
+    return !memcmp(a->r, b->r, sizeof a->r) && !memcmp(a->t, b->t, sizeof a->t);
+}
+
+/* The representations joined to rep by links without a transformation, rep included. */
+static cb_status component(step_file *f, long rep, long *members, int *n)
+{
+    members[0] = rep;
+    *n = 1;
+    for (int i = 0; i < *n; i++)
+        for (int k = 0; k < f->n_links; k++) {
+            const struct step_link *l = &f->links[k];
+            if (l->moved || (l->child != members[i] && l->parent != members[i]))
+                continue;
+            long other = l->child == members[i] ? l->parent : l->child;
+            int seen = 0;
+            for (int j = 0; j < *n && !seen; j++)
+                seen = members[j] == other;
+            if (seen)
+                continue;
+            if (*n == MAX_COMPONENT)
+                return cb_error_set(f->err, CB_ERR_INVALID,
+                                    "%s: more than %d representations joined as one shape",
+                                    f->path, MAX_COMPONENT);
+            members[(*n)++] = other;
+        }
+    return CB_OK;
+}
+
+/* Appends to out every placement of rep's shape in the roots, each composed with acc (rep
+ * coordinates to world is placement o acc). path holds the representations of the shapes
+ * above, for cycles. */
+static cb_status walk(step_file *f, const step_rec *at, long rep, const cb_xform *acc,
+                      long *path, int depth, placement_list *out)
+{
+    if (depth == MAX_ASSEMBLY_DEPTH)
+        return step_fail(f, at, NULL, CB_ERR_INVALID,
+                         "assembly tree deeper than %d representations (cyclic?)",
+                         MAX_ASSEMBLY_DEPTH);
+    long *members = malloc(MAX_COMPONENT * sizeof *members);
+    int n_members;
+    if (!members)
+        return cb_error_set(f->err, CB_ERR_NOMEM, "%s: out of memory", f->path);
+    cb_status st = component(f, rep, members, &n_members);
+    path[depth] = rep;
+    int exits = 0;
+    for (int k = 0; !st && k < f->n_links; k++) {
+        const struct step_link *l = &f->links[k];
+        if (!l->moved)
+            continue;
+        int in = 0;
+        for (int j = 0; j < n_members && !in; j++)
+            in = members[j] == l->child;
+        if (!in)
+            continue;
+        /* a parent joined to a shape already on the path closes a cycle: skip it */
+        int cyc = 0;
+        for (int j = 0; j <= depth && !cyc; j++)
+            cyc = path[j] == l->parent;
+        for (int j = 0; j < n_members && !cyc; j++)
+            cyc = members[j] == l->parent;
+        if (cyc)
+            continue;
+        exits++;
+        cb_xform x;
+        cb_xform_compose(&x, &l->x, acc);
+        st = walk(f, at, l->parent, &x, path, depth + 1, out);
+    }
+    free(members);
+    if (st || exits)
+        return st;
+    for (int k = 0; k < out->n; k++)
+        if (xform_equal(&out->x[k], acc))
+            return CB_OK;
+    if (out->n == MAX_PLACEMENTS)
+        return step_fail(f, at, NULL, CB_ERR_INVALID, "more than %d instances in the assembly",
+                         MAX_PLACEMENTS);
+    if (out->n == out->cap) {
+        int c = out->cap ? 2 * out->cap : 8;
+        cb_xform *x = realloc(out->x, (size_t)c * sizeof *x);
+        if (!x)
+            return cb_error_set(f->err, CB_ERR_NOMEM, "%s: out of memory", f->path);
+        out->x = x;
+        out->cap = c;
+    }
+    out->x[out->n++] = *acc;
+    return CB_OK;
+}
+
+cb_status step_placements_for(step_file *f, const step_rec *item, cb_xform **out, int *n)
+{
+    *out = NULL;
+    *n = 0;
+    placement_list list = {NULL, 0, 0};
     const step_part *rp;
     const step_rec *rep = rep_holding(f, item->id, &rp);
-    if (!rep)
-        return CB_OK;
-    long visited[MAX_ASSEMBLY_DEPTH], cur = rep->id;
-    for (int n = 0;; n++) {
-        if (n == MAX_ASSEMBLY_DEPTH)
-            return step_fail(f, rep, NULL, CB_ERR_INVALID,
-                             "assembly tree deeper than %d representations", MAX_ASSEMBLY_DEPTH);
-        visited[n] = cur;
-        long next;
-        int moved = 0;
-        cb_xform t;
-        cb_status st = next_rep(f, cur, visited, n + 1, &next, &t, &moved);
-        if (st)
-            return st;
-        if (!next)
-            return CB_OK;
-        if (moved)
-            cb_xform_compose(x, &t, x);
-        cur = next;
+    cb_xform id;
+    cb_xform_identity(&id);
+    cb_status st = CB_OK;
+    if (rep && !f->links_ready)
+        st = gather_links(f);
+    if (!st && rep) {
+        long path[MAX_ASSEMBLY_DEPTH];
+        st = walk(f, rep, rep->id, &id, path, 0, &list);
     }
+    if (!st && !list.n) {
+        list.x = malloc(sizeof *list.x);
+        if (!list.x)
+            return cb_error_set(f->err, CB_ERR_NOMEM, "%s: out of memory", f->path);
+        list.x[0] = id;
+        list.n = 1;
+    }
+    if (st) {
+        free(list.x);
+        return st;
+    }
+    *out = list.x;
+    *n = list.n;
+    return CB_OK;
 }
