@@ -70,6 +70,7 @@ typedef struct {
     X(COMPOSITE_CURVE)                                                                          \
     X(COMPOSITE_CURVE_SEGMENT)                                                                  \
     X(CONICAL_SURFACE)                                                                          \
+    X(CONTEXT_DEPENDENT_SHAPE_REPRESENTATION)                                                   \
     X(CONVERSION_BASED_UNIT)                                                                    \
     X(CYLINDRICAL_SURFACE)                                                                      \
     X(DEFINITIONAL_REPRESENTATION)                                                              \
@@ -92,6 +93,7 @@ typedef struct {
     X(MANIFOLD_SOLID_BREP)                                                                      \
     X(MAPPED_ITEM)                                                                              \
     X(MEASURE_WITH_UNIT)                                                                        \
+    X(NEXT_ASSEMBLY_USAGE_OCCURRENCE)                                                           \
     X(OFFSET_SURFACE)                                                                           \
     X(OPEN_SHELL)                                                                               \
     X(ORIENTED_CLOSED_SHELL)                                                                    \
@@ -102,6 +104,7 @@ typedef struct {
     X(PLANE_ANGLE_MEASURE_WITH_UNIT)                                                            \
     X(PLANE_ANGLE_UNIT)                                                                         \
     X(POLYLINE)                                                                                 \
+    X(PRODUCT_DEFINITION_SHAPE)                                                                 \
     X(QUASI_UNIFORM_CURVE)                                                                      \
     X(QUASI_UNIFORM_SURFACE)                                                                    \
     X(RATIONAL_B_SPLINE_CURVE)                                                                  \
@@ -111,6 +114,7 @@ typedef struct {
     X(REPRESENTATION_RELATIONSHIP)                                                              \
     X(REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION)                                          \
     X(SEAM_CURVE)                                                                               \
+    X(SHAPE_DEFINITION_REPRESENTATION)                                                          \
     X(SHAPE_REPRESENTATION_RELATIONSHIP)                                                        \
     X(SHELL_BASED_SURFACE_MODEL)                                                                \
     X(SI_UNIT)                                                                                  \

@@ -338,20 +338,99 @@ static cb_status mapped_item(step_file *f, const step_rec *m, long *rep, cb_xfor
     return CB_OK;
 }
 
-/* Gathers the links of the assembly tree (step_placements_for) once per file. */
-static cb_status gather_links(step_file *f)
+/* The record the i-th parameter of part p references, or NULL. */
+static const step_rec *ref_arg(const step_file *f, const step_part *p, int i)
 {
+    const step_node *list = &f->nodes[p->args];
+    if (!p || i >= list->n)
+        return NULL;
+    const step_node *x = step_elem(list, i);
+    return x->kind == STEP_REF ? step_find(f, x->v.ref) : NULL;
+}
+
+/* The product definition and representation of each SHAPE_DEFINITION_REPRESENTATION (through
+ * its PRODUCT_DEFINITION_SHAPE), as pairs pd[2k], rep[2k + 1]. */
+static long *shape_definitions(const step_file *f, int *n)
+{
+    long *pairs = NULL;
     int cap = 0;
-    cb_status st;
+    *n = 0;
     for (int k = 0; k < f->n_recs; k++) {
         const step_rec *r = &f->recs[k];
+        const step_part *p = step_part_of(f, r, STEP_T_SHAPE_DEFINITION_REPRESENTATION);
+        const step_rec *pds = p ? ref_arg(f, p, 0) : NULL, *rep = p ? ref_arg(f, p, 1) : NULL;
+        const step_part *pp = pds ? step_part_of(f, pds, STEP_T_PRODUCT_DEFINITION_SHAPE) : NULL;
+        const step_rec *pd = pp ? ref_arg(f, pp, 2) : NULL;
+        if (!pd || !rep)
+            continue;
+        if (*n == cap) {
+            cap = cap ? 2 * cap : 64;
+            long *q = realloc(pairs, (size_t)cap * 2 * sizeof *q);
+            if (!q) {
+                free(pairs);
+                *n = -1;
+                return NULL;
+            }
+            pairs = q;
+        }
+        pairs[2 * *n] = pd->id;
+        pairs[2 * *n + 1] = rep->id;
+        (*n)++;
+    }
+    return pairs;
+}
+
+static int defines(const long *pairs, int n, long pd, long rep)
+{
+    for (int k = 0; k < n; k++)
+        if (pairs[2 * k] == pd && pairs[2 * k + 1] == rep)
+            return 1;
+    return 0;
+}
+
+/* 1 when the representation relationship rel, placed by a CONTEXT_DEPENDENT_SHAPE_REPRESENTATION
+ * for an assembly usage (NEXT_ASSEMBLY_USAGE_OCCURRENCE: relating the parent product
+ * definition, related the child), names the parent's representation as rep_1 and the child's
+ * as rep_2: some writers do, where ISO 10303-214 puts the child first. Their
+ * ITEM_DEFINED_TRANSFORMATION then takes a frame of the parent (item_1, in rep_1) to one of
+ * the child, so the child's placement is its inverse (as Open CASCADE reads them too). */
+static int reversed_usage(const step_file *f, const step_rec *cdsr, const long *pairs, int n,
+                          long *rel_id)
+{
+    const step_part *p = step_part_of(f, cdsr, STEP_T_CONTEXT_DEPENDENT_SHAPE_REPRESENTATION);
+    const step_rec *rel = ref_arg(f, p, 0), *pds = ref_arg(f, p, 1);
+    const step_part *pp = pds ? step_part_of(f, pds, STEP_T_PRODUCT_DEFINITION_SHAPE) : NULL;
+    const step_rec *usage = pp ? ref_arg(f, pp, 2) : NULL;
+    const step_part *up = usage ? &f->parts[usage->part0] : NULL;
+    const step_part *rp = rel ? step_part_of(f, rel, STEP_T_REPRESENTATION_RELATIONSHIP) : NULL;
+    if (!rp && rel)
+        rp = step_part_of(f, rel, STEP_T_SHAPE_REPRESENTATION_RELATIONSHIP);
+    if (!up || !rp || f->nodes[up->args].n < 5 || f->nodes[rp->args].n != 4)
+        return 0;
+    const step_rec *parent = ref_arg(f, up, 3), *child = ref_arg(f, up, 4);
+    const step_rec *r1 = ref_arg(f, rp, 2), *r2 = ref_arg(f, rp, 3);
+    if (!parent || !child || !r1 || !r2)
+        return 0;
+    *rel_id = rel->id;
+    int swapped = defines(pairs, n, parent->id, r1->id) || defines(pairs, n, child->id, r2->id);
+    int straight = defines(pairs, n, child->id, r1->id) || defines(pairs, n, parent->id, r2->id);
+    return swapped && !straight;
+}
+
+/* The links record r makes: a representation relationship, or the MAPPED_ITEMs among the items
+ * of a shape representation. rev: the relationships written parent first (reversed_usage). */
+static cb_status gather_link(step_file *f, const step_rec *r, const long *rev, int n_rev,
+                             int *cap)
+{
+    cb_status st;
+    {
         const step_part *p = step_part_of(f, r, STEP_T_REPRESENTATION_RELATIONSHIP);
         if (!p)
             p = step_part_of(f, r, STEP_T_SHAPE_REPRESENTATION_RELATIONSHIP);
         if (p && f->nodes[p->args].n == 4) {
             const step_node *r1 = step_elem(&f->nodes[p->args], 2), *r2 = step_next(r1);
             if (r1->kind != STEP_REF || r2->kind != STEP_REF)
-                continue;
+                return CB_OK;
             const step_part *wt =
                 step_part_of(f, r, STEP_T_REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION);
             cb_xform x;
@@ -364,9 +443,13 @@ static cb_status gather_links(step_file *f)
                     (st = item_transform(f, t, &x)))
                     return st;
             }
-            if ((st = add_link(f, &cap, r1->v.ref, r2->v.ref, wt != NULL, wt ? &x : NULL)))
-                return st;
-            continue;
+            int swap = 0;
+            for (int j = 0; j < n_rev && !swap; j++)
+                swap = rev[j] == r->id;
+            if (swap)
+                xform_inverse(&x, &x);
+            return add_link(f, cap, swap ? r2->v.ref : r1->v.ref, swap ? r1->v.ref : r2->v.ref,
+                            wt != NULL, wt ? &x : NULL);
         }
         /* MAPPED_ITEMs among the items of a shape representation */
         for (int j = 0; j < r->n_parts; j++) {
@@ -386,13 +469,46 @@ static cb_status gather_links(step_file *f)
                 if (!m || m->complex || step_rec_type(f, m) != STEP_T_MAPPED_ITEM)
                     continue;
                 if ((st = mapped_item(f, m, &child, &mx)) ||
-                    (st = add_link(f, &cap, child, r->id, 1, &mx)))
+                    (st = add_link(f, cap, child, r->id, 1, &mx)))
                     return st;
             }
         }
     }
-    f->links_ready = 1;
     return CB_OK;
+}
+
+/* Gathers the links of the assembly tree (step_placements_for) once per file. */
+static cb_status gather_links(step_file *f)
+{
+    int cap = 0, n_pairs, n_rev = 0, cap_rev = 0;
+    long *pairs = shape_definitions(f, &n_pairs), *rev = NULL;
+    if (n_pairs < 0)
+        return cb_error_set(f->err, CB_ERR_NOMEM, "%s: out of memory", f->path);
+    for (int k = 0; k < f->n_recs; k++) {
+        long id;
+        if (!step_part_of(f, &f->recs[k], STEP_T_CONTEXT_DEPENDENT_SHAPE_REPRESENTATION) ||
+            !reversed_usage(f, &f->recs[k], pairs, n_pairs, &id))
+            continue;
+        if (n_rev == cap_rev) {
+            cap_rev = cap_rev ? 2 * cap_rev : 16;
+            long *q = realloc(rev, (size_t)cap_rev * sizeof *q);
+            if (!q) {
+                free(rev);
+                free(pairs);
+                return cb_error_set(f->err, CB_ERR_NOMEM, "%s: out of memory", f->path);
+            }
+            rev = q;
+        }
+        rev[n_rev++] = id;
+    }
+    free(pairs);
+    cb_status st = CB_OK;
+    for (int k = 0; k < f->n_recs && !st; k++)
+        st = gather_link(f, &f->recs[k], rev, n_rev, &cap);
+    free(rev);
+    if (!st)
+        f->links_ready = 1;
+    return st;
 }
 
 typedef struct {
@@ -490,22 +606,50 @@ static cb_status walk(step_file *f, const step_rec *at, long rep, const cb_xform
     return CB_OK;
 }
 
+static int linked(const step_file *f, long rep)
+{
+    for (int k = 0; k < f->n_links; k++)
+        if (f->links[k].child == rep || f->links[k].parent == rep)
+            return 1;
+    return 0;
+}
+
 cb_status step_placements_for(step_file *f, const step_rec *item, cb_xform **out, int *n)
 {
     *out = NULL;
     *n = 0;
     placement_list list = {NULL, 0, 0};
-    const step_part *rp;
-    const step_rec *rep = rep_holding(f, item->id, &rp);
     cb_xform id;
     cb_xform_identity(&id);
     cb_status st = CB_OK;
-    if (rep && !f->links_ready)
-        st = gather_links(f);
-    if (!st && rep) {
-        long path[MAX_ASSEMBLY_DEPTH];
-        st = walk(f, rep, rep->id, &id, path, 0, &list);
+    /* Every representation holding the item that the assembly tree links (one that is joined
+     * to nothing, such as a shape aspect's representation of a part's solid for its
+     * validation properties, places nothing); the first holding it when none is linked. */
+    const step_rec *first = NULL;
+    int walked = 0;
+    long path[MAX_ASSEMBLY_DEPTH];
+    for (int k = 0; k < f->n_recs && !st; k++) {
+        const step_rec *r = &f->recs[k];
+        int holds = 0;
+        for (int j = 0; j < r->n_parts && !holds; j++) {
+            const step_part *p = &f->parts[r->part0 + j];
+            holds = p->type != STEP_T_DEFINITIONAL_REPRESENTATION &&
+                    ends_with(f->buf + p->name_off, p->name_len, "REPRESENTATION") &&
+                    rep_part_holds(f, p, item->id);
+        }
+        if (!holds)
+            continue;
+        if (!first)
+            first = r;
+        if (!f->links_ready && (st = gather_links(f)))
+            break;
+        if (linked(f, r->id)) {
+            st = walk(f, r, r->id, &id, path, 0, &list);
+            walked = 1;
+        }
     }
+    if (!st && !walked && first)
+        st = walk(f, first, first->id, &id, path, 0, &list);
     if (!st && !list.n) {
         list.x = malloc(sizeof *list.x);
         if (!list.x)
