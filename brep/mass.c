@@ -842,8 +842,8 @@ static void shell_body(void *p, size_t begin, size_t end)
     }
 }
 
-/* Preconditions of shell k (brep/mass.h). */
-static cb_status check_shell(const cb_topo_body *b, int k, cb_error *err)
+/* Preconditions of shell k (brep/mass.h); its closedness only when closed is set. */
+static cb_status check_shell(const cb_topo_body *b, int k, int closed, cb_error *err)
 {
     if (k < 0 || k >= b->n_shells)
         return cb_error_set(err, CB_ERR_INVALID, "mass: shell %d out of range [0, %d)", k,
@@ -872,7 +872,7 @@ static cb_status check_shell(const cb_topo_body *b, int k, cb_error *err)
                     int g = b->loops[b->coedges[b->edge_coedges[j]].loop].face;
                     in_shell += g >= sh->first && g < sh->first + sh->count;
                 }
-                if (in_shell != 2)
+                if (closed && in_shell != 2)
                     return cb_error_set(err, CB_ERR_INVALID,
                                         "mass: shell %d is open: edge %d is used by %d "
                                         "coedge%s of it, not 2",
@@ -884,10 +884,11 @@ static cb_status check_shell(const cb_topo_body *b, int k, cb_error *err)
 }
 
 /* Sums of the face integrals of shell k about c, in face order. */
-static cb_status shell_sums(double q[NQ], const cb_topo_body *b, int k, const double c[3],
-                            double scale, double rel, cb_context *ctx, cb_error *err)
+static cb_status shell_sums(double q[NQ], const cb_topo_body *b, int k, int closed,
+                            const double c[3], double scale, double rel, cb_context *ctx,
+                            cb_error *err)
 {
-    cb_status st = check_shell(b, k, err);
+    cb_status st = check_shell(b, k, closed, err);
     if (st)
         return st;
     const cb_topo_shell *sh = &b->shells[k];
@@ -965,7 +966,7 @@ cb_status cb_mass_shell(cb_mass_props *m, const cb_topo_body *b, int k, double r
         return st;
     double c[3], scale, q[NQ] = {0};
     reference(c, &scale, b);
-    if ((st = shell_sums(q, b, k, c, scale, rel_tol, ctx, err)))
+    if ((st = shell_sums(q, b, k, 1, c, scale, rel_tol, ctx, err)))
         return st;
     finish_props(m, q, c);
     return CB_OK;
@@ -980,13 +981,38 @@ cb_status cb_mass_body(cb_mass_props *m, const cb_topo_body *b, double rel_tol, 
         return st;
     double c[3], scale, q[NQ] = {0};
     reference(c, &scale, b);
+    /* Open shells of surface models (sheets) bound nothing: their area counts, not their
+     * volume, as long as some closed shell gives the body a volume. */
+    int *sheet = calloc((size_t)(b->n_shells ? b->n_shells : 1), sizeof *sheet), closed = 0;
+    if (!sheet)
+        return cb_error_set(err, CB_ERR_NOMEM, "mass: out of memory");
+    cb_error first;
+    cb_error_clear(&first);
+    for (int k = 0; k < b->n_shells; k++) {
+        cb_error e;
+        cb_error_clear(&e);
+        sheet[k] = b->shells[k].solid < 0 && check_shell(b, k, 0, &e) == CB_OK &&
+                   check_shell(b, k, 1, !first.status ? &first : &e) != CB_OK;
+        closed += !sheet[k];
+    }
+    if (!closed && b->n_shells) {
+        free(sheet);
+        *err = first;
+        return first.status;
+    }
     for (int k = 0; k < b->n_shells; k++) {
         double qs[NQ] = {0};
-        if ((st = shell_sums(qs, b, k, c, scale, rel_tol, ctx, err)))
+        if ((st = shell_sums(qs, b, k, !sheet[k], c, scale, rel_tol, ctx, err))) {
+            free(sheet);
             return st;
-        for (int i = 0; i < NQ; i++)
-            q[i] += qs[i];
+        }
+        if (sheet[k])
+            q[QA] += qs[QA];
+        else
+            for (int i = 0; i < NQ; i++)
+                q[i] += qs[i];
     }
+    free(sheet);
     finish_props(m, q, c);
     return CB_OK;
 }

@@ -79,7 +79,9 @@ cb_status cb_mass_shell(cb_mass_props *m, const cb_topo_body *b, int k, double r
                         cb_context *ctx, cb_error *err);
 
 /* The same for the whole body: every shell (voids count negative, as their shells face into
- * the cavity), areas added, centroid of the total volume. */
+ * the cavity), areas added, centroid of the total volume. An open shell of a surface model
+ * (a sheet beside the solids: shell.solid < 0, some edge used once) adds its area only, as it
+ * bounds no volume; a body with no closed shell fails as cb_mass_shell does on the first. */
 cb_status cb_mass_body(cb_mass_props *m, const cb_topo_body *b, double rel_tol, cb_context *ctx,
                        cb_error *err);
 
