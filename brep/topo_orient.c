@@ -288,3 +288,22 @@ cb_status cb_topo_shell_volume(double *volume, const cb_topo_body *b, int shell,
     }
     return st;
 }
+
+void cb_topo_shell_reverse(cb_topo_body *b, int k)
+{
+    const cb_topo_shell *sh = &b->shells[k];
+    for (int f = sh->first; f < sh->first + sh->count; f++) {
+        cb_topo_face *fc = &b->faces[f];
+        fc->same_sense ^= 1;
+        for (int l = fc->first; l < fc->first + fc->count; l++) {
+            cb_topo_coedge *c = b->coedges + b->loops[l].first;
+            for (int i = 0, j = b->loops[l].count - 1; i < j; i++, j--) {
+                cb_topo_coedge t = c[i];
+                c[i] = c[j];
+                c[j] = t;
+            }
+            for (int i = 0; i < b->loops[l].count; i++)
+                c[i].sense ^= 1;
+        }
+    }
+}

@@ -535,6 +535,33 @@ static void test_cubes(void)
     }
     free(text);
 
+    /* The same void written inside out (ORIENTED_CLOSED_SHELL .T.: its faces pointing out of
+     * the cavity, as some writers do): the reader turns it into its cavity by the sign of its
+     * enclosed volume, and likewise an outer shell written inward. */
+    for (int outer = 0; outer < 2; outer++) {
+        text = cube_file(&voids);
+        char *o = strstr(text, "ORIENTED_CLOSED_SHELL"), *fl = o ? strstr(o, ".F.") : NULL;
+        if (fl)
+            fl[1] = 'T';
+        if (outer) /* every face of both cubes reversed */
+            for (char *p = text; (p = strstr(p, "ADVANCED_FACE(")) && p < o; p++) {
+                char *sense = strstr(p, ".T.);");
+                if (sense && sense < o)
+                    sense[1] = 'F';
+            }
+        st = read_text(&b, text, strlen(text), &err);
+        CHECK(st == CB_OK && fl, "cube with an inside-out %s: %s", outer ? "solid" : "void",
+              err.msg);
+        if (!st) {
+            validates(b, outer ? "cube written inward" : "void written inside out");
+            CHECK(!b->faces[6].same_sense && b->faces[0].same_sense,
+                  "inside-out %s: senses %d %d", outer ? "solid" : "void", b->faces[0].same_sense,
+                  b->faces[6].same_sense);
+            cb_topo_body_free(b);
+        }
+        free(text);
+    }
+
     cube_opts placed = {.assembly = 1, .offset = {10, 20, 30}};
     text = cube_file(&placed);
     st = read_text(&b, text, strlen(text), &err);
