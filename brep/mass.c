@@ -488,7 +488,6 @@ typedef struct {
     coedge_map map;
     double s0, s1;
     double start[2], end[2];
-    int pole_joint; /* meets the previous coedge on a pole line, at another periodic value */
 } coedge_info;
 
 /* Whether coedge c's pcurve follows the convention: range = the edge's, mid point on it. */
@@ -660,12 +659,8 @@ static cb_status face_integrate(face_result *res, const cb_topo_body *b, int f, 
                  * the edges' tolerance: two coedges ending a little off a pole (a traced
                  * meridian) meet across the pole line either way round, and a lift by the
                  * nearest whole period (half a period away) made the loop wind around it. */
-                int closes = cb_topo_inverter_spread(&inv, p, e->start) <=
-                             joint_tol(b, cc - 1, cc, gap_tol);
-                for (int i = 0; i < 2 && closes; i++)
-                    e->pole_joint |= inv.period[i] > 0 &&
-                                     fabs(p[i] - e->start[i]) > 1e-9 * inv.period[i];
-                if (!closes) {
+                if (cb_topo_inverter_spread(&inv, p, e->start) >
+                    joint_tol(b, cc - 1, cc, gap_tol)) {
                     for (int i = 0; i < 2; i++)
                         if (inv.lift[i] > 0)
                             e->map.off[i] = inv.lift[i] * round((p[i] - e->start[i]) / inv.lift[i]);
@@ -756,47 +751,7 @@ static cb_status face_integrate(face_result *res, const cb_topo_body *b, int f, 
         w.n_knots = surface_knots(w.knots, cap, s, w.a);
         w.n_knots_o = surface_knots(w.knots_o, cap_o, s, 1 - w.a);
     }
-    /* A loop that meets itself on a pole line (a face between two meridians of a sphere)
-     * says nothing of which way round the pole it goes: its coedges past such a joint may
-     * equally lie a period further. The loops as found first; where the face's area comes
-     * out negative (the loop runs round the complement), the coedges from the first pole
-     * joint to the next are moved by +1, then -1 period along the pole line. */
-    double total[NQ] = {0}, total0[NQ] = {0};
-    double e_sign = fa->same_sense ? 1 : -1;
-    int pole_axis = -1, pj = -1, pj_end = -1;
-    for (int i = 0, kk = 0; i < fa->count && pj < 0; i++) {
-        const cb_topo_loop *lp = &b->loops[fa->first + i];
-        for (int cc = 0; cc < lp->count; cc++, kk++)
-            if (ci[kk].pole_joint && pj < 0) {
-                pj = kk;
-                pj_end = kk - cc + lp->count;
-                for (int j = kk + 1; j < pj_end; j++)
-                    if (ci[j].pole_joint) {
-                        pj_end = j;
-                        break;
-                    }
-            }
-    }
-    if (pj >= 0 && !any_wrap[0] && !any_wrap[1])
-        pole_axis = inv.period[0] > 0 && fabs(ci[pj].start[0] - ci[pj - 1].end[0]) >
-                                             1e-9 * inv.period[0]
-                        ? 0
-                        : 1;
-    for (int attempt = 0; attempt < 3; attempt++) {
-    if (attempt) {
-        if (pole_axis < 0 || e_sign * total[QA] >= 0)
-            break;
-        double shift = (attempt == 1 ? 1 : -2) * inv.period[pole_axis];
-        for (int j = pj; j < pj_end; j++) {
-            ci[j].map.off[pole_axis] += shift;
-            ci[j].start[pole_axis] += shift;
-            ci[j].end[pole_axis] += shift;
-        }
-        if (attempt == 1)
-            memcpy(total0, total, sizeof total);
-        memset(total, 0, sizeof total);
-        w.inner_left = MAX_FACE_BISECTIONS;
-    }
+    double total[NQ] = {0};
     k = 0;
     for (int l = fa->first; l < fa->first + fa->count; l++) {
         const cb_topo_loop *lp = &b->loops[l];
@@ -839,15 +794,44 @@ static cb_status face_integrate(face_result *res, const cb_topo_body *b, int f, 
             }
         }
     }
+    /* On a surface closed in u with a pole at both ends in v (a sphere), a loop that does
+     * not wind bounds two regions, and which one the face is follows from the loop's sense
+     * alone, not from where its pcurves lie in (u, v): a loop meeting itself across a pole
+     * line (two meridians; a great circle through both poles) may lie so that it runs round
+     * the region in (u, v) the other way. Its area then comes out negative, and the face is
+     * the complement: the whole band u in [u0, u0 + period] between the poles (the integral
+     * along its two sides v = pole to pole; the pole lines add nothing) plus the loops. */
+    if ((fa->same_sense ? total[QA] : -total[QA]) < 0 && !any_wrap[0] && !any_wrap[1] &&
+        w.a == 0 && inv.period[0] > 0) {
+        face_work wp = w;
+        wp.a = 1;
+        double vs, vn;
+        if (find_pole(&vn, &wp, s, 1, lo[1], hi[1], gap_tol) &&
+            find_pole(&vs, &wp, s, -1, lo[1], hi[1], gap_tol)) {
+            double band[NQ] = {0}, x01[2] = {0, 1};
+            double sides[2][4] = {{lo[0] + inv.period[0], vs, lo[0] + inv.period[0], vn},
+                                  {lo[0], vn, lo[0], vs}};
+            for (int i = 0; i < 2; i++) {
+                w.seg = sides[i];
+                adaptive as = {segment_fn,    &w, MAX_DEPTH_OUTER, ctx, 0, OUTER_NOISE * rel,
+                               MAX_BISECTIONS};
+                integrate(band, &as, x01, 2, rel, w.floor_out);
+            }
+            /* the band integrated counter-clockwise; the loops run clockwise round their
+             * face where same_sense is 0 */
+            double sense = fa->same_sense ? 1 : -1;
+            if (sense * (total[QA] + sense * band[QA]) > 0)
+                for (int q = 0; q < NQ; q++)
+                    total[q] += sense * band[q];
+        }
     }
-    if (pole_axis >= 0 && e_sign * total[QA] < 0) /* no lift helps: the loops as found */
-        memcpy(total, total0, sizeof total);
     if (w.inner_left <= 0) {
         st = cb_error_set(err, CB_ERR_NUMERIC,
                           "mass: face %d: the integrals do not converge within %ld bisections",
                           f, MAX_FACE_BISECTIONS);
         goto done;
     }
+    double e_sign = fa->same_sense ? 1 : -1;
     for (int q = 0; q < NQ; q++)
         res->q[q] = total[q];
     res->q[QA] *= e_sign;
