@@ -231,6 +231,12 @@ static cb_status delimited(lexer *lx, step_kind kind, char close)
                             : kind == STEP_ENUM ? "enumeration"
                                                 : "binary");
         char c = lx->s[p];
+        /* \S\c is the character c + 128 (ISO 10303-21 7.3.3): c may be a quote. */
+        if (kind == STEP_STRING && c == '\\' && p + 3 < lx->len && lx->s[p + 1] == 'S' &&
+            lx->s[p + 2] == '\\' && lx->s[p + 3] != '\n') {
+            p += 4;
+            continue;
+        }
         if (c == '\n') {
             if (kind != STEP_STRING)
                 return lex_fail(lx, start_line, "unterminated %s",
@@ -240,6 +246,17 @@ static cb_status delimited(lexer *lx, step_kind kind, char close)
         if (c == close) {
             if (kind == STEP_STRING && p + 1 < lx->len && lx->s[p + 1] == '\'') {
                 p += 2;
+                continue;
+            }
+            /* A string is a parameter: its closing quote is followed by ',' or ')'. A lone
+             * quote followed by anything else (not allowed, but written: bug28454's
+             * directives) is taken as part of the text, as Open CASCADE reads it. */
+            size_t q = p + 1;
+            while (kind == STEP_STRING && q < lx->len &&
+                   (lx->s[q] == ' ' || lx->s[q] == '\t' || lx->s[q] == '\r' || lx->s[q] == '\n'))
+                q++;
+            if (kind == STEP_STRING && q < lx->len && lx->s[q] != ',' && lx->s[q] != ')') {
+                p++;
                 continue;
             }
             break;
