@@ -7,7 +7,7 @@
  *
  * Outcome classes, checked in this order:
  *   crash      the process ended by a signal, or its exit status is none of 0, 1, 2, or its
- *              JSON could not be read;
+ *              JSON could not be read, or a sanitizer reported an error on stderr;
  *   timeout    still running at the limit (killed);
  *   not loaded exit status 2 (an input that cannot be used): the reader's message;
  *   solids     loaded with a number of solids other than OCCT's (OCCT expands assemblies
@@ -438,6 +438,17 @@ static inline void stepc_score(stepc_run *r)
     if (r->timed_out) {
         r->outcome = STEPC_TIMEOUT;
         snprintf(r->detail, sizeof r->detail, "killed after %.0f s", r->elapsed);
+        return;
+    }
+    /* A sanitizer build reports through stderr and may exit with any status (1 by default). */
+    if (strstr(r->err, "Sanitizer") || strstr(r->err, "runtime error:")) {
+        r->outcome = STEPC_CRASH;
+        const char *at = strstr(r->err, "Sanitizer") ? strstr(r->err, "Sanitizer")
+                                                      : strstr(r->err, "runtime error:");
+        snprintf(r->detail, sizeof r->detail, "%.200s", at);
+        for (char *c = r->detail; *c; c++)
+            if (*c == '\n')
+                *c = ' ';
         return;
     }
     if (r->status == 2) {
