@@ -187,6 +187,28 @@ cb_status cb_nurbs_curve_arc(cb_nurbs_curve_t c, const double center[3], const d
                              const double ydir[3], double radius, double a0, double a1,
                              cb_error *err);
 
+/* The parabola arc t -> vertex + focal (t^2 xdir + 2 t ydir), t in [t0, t1] (ISO 10303-42's
+ * PARABOLA with focal distance focal), as one quadratic Bezier segment with knots
+ * (t0, t0, t0, t1, t1, t1): a parabola is a polynomial curve, so the B-spline parameter equals t
+ * everywhere. Control points C(t0), vertex + focal (t0 t1 xdir + (t0 + t1) ydir) (where the end
+ * tangents meet), C(t1). Rejects non-finite input, focal <= 0, xdir and ydir zero or parallel,
+ * t0 >= t1. */
+cb_status cb_nurbs_curve_parabola(cb_nurbs_curve_t c, const double vertex[3],
+                                  const double xdir[3], const double ydir[3], double focal,
+                                  double t0, double t1, cb_error *err);
+
+/* The hyperbola arc t -> center + a cosh t xdir + b sinh t ydir, t in [t0, t1] (one branch, as
+ * ISO 10303-42's HYPERBOLA), as an exact rational quadratic B-spline: n equal segments of
+ * length at most 2 joined by double knots at their t values (the B-spline parameter equals t
+ * there, not between). On a segment [s, s'] with mid m and half-length h the control points
+ * are C(s), center + (a cosh m xdir + b sinh m ydir) / cosh h (where the end tangents meet),
+ * C(s') and the middle weight cosh h: the hyperbolic rotation by m of the symmetric arc
+ * [-h, h], whose midpoint (a, 0) fixes the weight. Rejects non-finite input, a or b <= 0,
+ * xdir and ydir zero or parallel, t0 >= t1, |t0| or |t1| > 700 (cosh overflows). */
+cb_status cb_nurbs_curve_hyperbola(cb_nurbs_curve_t c, const double center[3],
+                                   const double xdir[3], const double ydir[3], double a, double b,
+                                   double t0, double t1, cb_error *err);
+
 /* An exact rational B-spline surface whose image is s over [u0, u1] x [v0, v1]:
  *   plane                     degree (1, 1), bilinear
  *   cylinder, cone            degree (2, 1): arc in u times a line in v (the cone's radius is

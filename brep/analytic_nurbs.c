@@ -137,6 +137,110 @@ cb_status cb_nurbs_curve_arc(cb_nurbs_curve_t c, const double center[3], const d
     return CB_OK;
 }
 
+/* Checks the frame and range shared by the parabola and the hyperbola. */
+static cb_status conic_args(const double o[3], const double xdir[3], const double ydir[3],
+                            double t0, double t1, const char *what, cb_error *err)
+{
+    for (int i = 0; i < 3; i++)
+        if (!isfinite(o[i]) || !isfinite(xdir[i]) || !isfinite(ydir[i]))
+            return cb_error_set(err, CB_ERR_INVALID, "%s: frame not finite (coordinate %c)",
+                                what, "xyz"[i]);
+    double nrm[3];
+    cb_vec3_cross(nrm, xdir, ydir);
+    if (nrm[0] == 0 && nrm[1] == 0 && nrm[2] == 0)
+        return cb_error_set(err, CB_ERR_INVALID, "%s: xdir and ydir are zero or parallel", what);
+    if (!(isfinite(t0) && isfinite(t1) && t0 < t1))
+        return cb_error_set(err, CB_ERR_INVALID, "%s: range [%.17g, %.17g] is empty", what, t0,
+                            t1);
+    return CB_OK;
+}
+
+cb_status cb_nurbs_curve_parabola(cb_nurbs_curve_t c, const double vertex[3],
+                                  const double xdir[3], const double ydir[3], double focal,
+                                  double t0, double t1, cb_error *err)
+{
+    cb_status st = conic_args(vertex, xdir, ydir, t0, t1, "parabola", err);
+    if (st)
+        return st;
+    if (!(isfinite(focal) && focal > 0))
+        return cb_error_set(err, CB_ERR_INVALID, "parabola: focal distance %.17g must be > 0",
+                            focal);
+    cb_nurbs_curve_t t;
+    cb_nurbs_curve_init(t);
+    if ((st = cb_nurbs_curve_alloc(t, 2, 3, err)))
+        return st;
+    const double kx[3] = {t0 * t0, t0 * t1, t1 * t1}, ky[3] = {2 * t0, t0 + t1, 2 * t1};
+    for (int k = 0; k < 3; k++) {
+        double *cw = t->cw + 4 * k;
+        for (int i = 0; i < 3; i++)
+            cw[i] = vertex[i] + focal * (kx[k] * xdir[i] + ky[k] * ydir[i]);
+        cw[3] = 1;
+        t->knots[k] = t0;
+        t->knots[3 + k] = t1;
+    }
+    cb_nurbs_curve_swap(c, t);
+    cb_nurbs_curve_clear(t);
+    return CB_OK;
+}
+
+cb_status cb_nurbs_curve_hyperbola(cb_nurbs_curve_t c, const double center[3],
+                                   const double xdir[3], const double ydir[3], double a, double b,
+                                   double t0, double t1, cb_error *err)
+{
+    /* cosh 700 ~ 5e303: beyond it the points overflow. */
+    const double max_t = 700, max_seg = 2;
+    cb_status st = conic_args(center, xdir, ydir, t0, t1, "hyperbola", err);
+    if (st)
+        return st;
+    if (!(isfinite(a) && a > 0 && isfinite(b) && b > 0))
+        return cb_error_set(err, CB_ERR_INVALID, "hyperbola: semi-axes %.17g, %.17g must be > 0",
+                            a, b);
+    if (fabs(t0) > max_t || fabs(t1) > max_t)
+        return cb_error_set(err, CB_ERR_INVALID, "hyperbola: range [%.17g, %.17g] beyond +-%g",
+                            t0, t1, max_t);
+    int n = (int)ceil((t1 - t0) / max_seg);
+    if (n < 1)
+        n = 1;
+    cb_nurbs_curve_t t;
+    cb_nurbs_curve_init(t);
+    if ((st = cb_nurbs_curve_alloc(t, 2, 2 * n + 1, err)))
+        return st;
+    for (int k = 0; k <= 2 * n; k++) {
+        /* even k: a segment end at s = t0 + (k / 2) (t1 - t0) / n; odd k: a shoulder point */
+        double *cw = t->cw + 4 * k, cx, cy, w;
+        double s0 = t0 + (t1 - t0) * (k / 2) / n, s1 = t0 + (t1 - t0) * (k / 2 + 1) / n;
+        if (k == 2 * n)
+            s0 = t1;
+        if (k % 2 == 0) {
+            cx = a * cosh(s0);
+            cy = b * sinh(s0);
+            w = 1;
+        } else {
+            double m = 0.5 * (s0 + s1), h = 0.5 * (s1 - s0);
+            w = cosh(h);
+            cx = a * cosh(m) / w;
+            cy = b * sinh(m) / w;
+        }
+        for (int i = 0; i < 3; i++)
+            cw[i] = w * (center[i] + cx * xdir[i] + cy * ydir[i]);
+        cw[3] = w;
+    }
+    /* knots t0 x3, the interior segment ends twice, t1 x3 */
+    int m = 0;
+    for (int k = 0; k < 3; k++)
+        t->knots[m++] = t0;
+    for (int j = 1; j < n; j++) {
+        double s = t0 + (t1 - t0) * j / n;
+        t->knots[m++] = s;
+        t->knots[m++] = s;
+    }
+    for (int k = 0; k < 3; k++)
+        t->knots[m++] = t1;
+    cb_nurbs_curve_swap(c, t);
+    cb_nurbs_curve_clear(t);
+    return CB_OK;
+}
+
 /* The plane patch: bilinear, and the B-spline parameter equals (u, v) everywhere. */
 static cb_status plane_to_nurbs(cb_nurbs_surface_t out, const cb_analytic_surface *s, double u0,
                                 double u1, double v0, double v1, cb_error *err)

@@ -794,6 +794,37 @@ static cb_status face_integrate(face_result *res, const cb_topo_body *b, int f, 
             }
         }
     }
+    /* On a surface closed in u with a pole at both ends in v (a sphere), a loop that does
+     * not wind bounds two regions, and which one the face is follows from the loop's sense
+     * alone, not from where its pcurves lie in (u, v): a loop meeting itself across a pole
+     * line (two meridians; a great circle through both poles) may lie so that it runs round
+     * the region in (u, v) the other way. Its area then comes out negative, and the face is
+     * the complement: the whole band u in [u0, u0 + period] between the poles (the integral
+     * along its two sides v = pole to pole; the pole lines add nothing) plus the loops. */
+    if ((fa->same_sense ? total[QA] : -total[QA]) < 0 && !any_wrap[0] && !any_wrap[1] &&
+        w.a == 0 && inv.period[0] > 0) {
+        face_work wp = w;
+        wp.a = 1;
+        double vs, vn;
+        if (find_pole(&vn, &wp, s, 1, lo[1], hi[1], gap_tol) &&
+            find_pole(&vs, &wp, s, -1, lo[1], hi[1], gap_tol)) {
+            double band[NQ] = {0}, x01[2] = {0, 1};
+            double sides[2][4] = {{lo[0] + inv.period[0], vs, lo[0] + inv.period[0], vn},
+                                  {lo[0], vn, lo[0], vs}};
+            for (int i = 0; i < 2; i++) {
+                w.seg = sides[i];
+                adaptive as = {segment_fn,    &w, MAX_DEPTH_OUTER, ctx, 0, OUTER_NOISE * rel,
+                               MAX_BISECTIONS};
+                integrate(band, &as, x01, 2, rel, w.floor_out);
+            }
+            /* the band integrated counter-clockwise; the loops run clockwise round their
+             * face where same_sense is 0 */
+            double sense = fa->same_sense ? 1 : -1;
+            if (sense * (total[QA] + sense * band[QA]) > 0)
+                for (int q = 0; q < NQ; q++)
+                    total[q] += sense * band[q];
+        }
+    }
     if (w.inner_left <= 0) {
         st = cb_error_set(err, CB_ERR_NUMERIC,
                           "mass: face %d: the integrals do not converge within %ld bisections",
@@ -842,8 +873,8 @@ static void shell_body(void *p, size_t begin, size_t end)
     }
 }
 
-/* Preconditions of shell k (brep/mass.h). */
-static cb_status check_shell(const cb_topo_body *b, int k, cb_error *err)
+/* Preconditions of shell k (brep/mass.h); its closedness only when closed is set. */
+static cb_status check_shell(const cb_topo_body *b, int k, int closed, cb_error *err)
 {
     if (k < 0 || k >= b->n_shells)
         return cb_error_set(err, CB_ERR_INVALID, "mass: shell %d out of range [0, %d)", k,
@@ -872,7 +903,7 @@ static cb_status check_shell(const cb_topo_body *b, int k, cb_error *err)
                     int g = b->loops[b->coedges[b->edge_coedges[j]].loop].face;
                     in_shell += g >= sh->first && g < sh->first + sh->count;
                 }
-                if (in_shell != 2)
+                if (closed && in_shell != 2)
                     return cb_error_set(err, CB_ERR_INVALID,
                                         "mass: shell %d is open: edge %d is used by %d "
                                         "coedge%s of it, not 2",
@@ -884,10 +915,11 @@ static cb_status check_shell(const cb_topo_body *b, int k, cb_error *err)
 }
 
 /* Sums of the face integrals of shell k about c, in face order. */
-static cb_status shell_sums(double q[NQ], const cb_topo_body *b, int k, const double c[3],
-                            double scale, double rel, cb_context *ctx, cb_error *err)
+static cb_status shell_sums(double q[NQ], const cb_topo_body *b, int k, int closed,
+                            const double c[3], double scale, double rel, cb_context *ctx,
+                            cb_error *err)
 {
-    cb_status st = check_shell(b, k, err);
+    cb_status st = check_shell(b, k, closed, err);
     if (st)
         return st;
     const cb_topo_shell *sh = &b->shells[k];
@@ -965,7 +997,7 @@ cb_status cb_mass_shell(cb_mass_props *m, const cb_topo_body *b, int k, double r
         return st;
     double c[3], scale, q[NQ] = {0};
     reference(c, &scale, b);
-    if ((st = shell_sums(q, b, k, c, scale, rel_tol, ctx, err)))
+    if ((st = shell_sums(q, b, k, 1, c, scale, rel_tol, ctx, err)))
         return st;
     finish_props(m, q, c);
     return CB_OK;
@@ -980,13 +1012,38 @@ cb_status cb_mass_body(cb_mass_props *m, const cb_topo_body *b, double rel_tol, 
         return st;
     double c[3], scale, q[NQ] = {0};
     reference(c, &scale, b);
+    /* Open shells of surface models (sheets) bound nothing: their area counts, not their
+     * volume, as long as some closed shell gives the body a volume. */
+    int *sheet = calloc((size_t)(b->n_shells ? b->n_shells : 1), sizeof *sheet), closed = 0;
+    if (!sheet)
+        return cb_error_set(err, CB_ERR_NOMEM, "mass: out of memory");
+    cb_error first;
+    cb_error_clear(&first);
+    for (int k = 0; k < b->n_shells; k++) {
+        cb_error e;
+        cb_error_clear(&e);
+        sheet[k] = b->shells[k].solid < 0 && check_shell(b, k, 0, &e) == CB_OK &&
+                   check_shell(b, k, 1, !first.status ? &first : &e) != CB_OK;
+        closed += !sheet[k];
+    }
+    if (!closed && b->n_shells) {
+        free(sheet);
+        *err = first;
+        return first.status;
+    }
     for (int k = 0; k < b->n_shells; k++) {
         double qs[NQ] = {0};
-        if ((st = shell_sums(qs, b, k, c, scale, rel_tol, ctx, err)))
+        if ((st = shell_sums(qs, b, k, !sheet[k], c, scale, rel_tol, ctx, err))) {
+            free(sheet);
             return st;
-        for (int i = 0; i < NQ; i++)
-            q[i] += qs[i];
+        }
+        if (sheet[k])
+            q[QA] += qs[QA];
+        else
+            for (int i = 0; i < NQ; i++)
+                q[i] += qs[i];
     }
+    free(sheet);
     finish_props(m, q, c);
     return CB_OK;
 }

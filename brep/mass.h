@@ -15,7 +15,12 @@
  * which is periodic in u, so the loops need no closing; an odd number of such loops closes at a
  * pole (a spherical cap), where v_ref is put so that G vanishes on the pole line. The
  * directions swap for loops around the v period. Faces whose loops wind around both periods (a
- * torus in one face) are not handled (CB_ERR_UNSUPPORTED).
+ * torus in one face) are not handled (CB_ERR_UNSUPPORTED). On a surface closed in u with a pole
+ * at both ends in v (a sphere), a loop that does not wind bounds two regions and its sense
+ * alone says which is the face: where the loops as lifted come out with a negative area (two
+ * meridians, or a great circle through both poles, whose pcurves cross the pole lines at other
+ * values of u), the face is the complement, and the integral over the whole band between the
+ * poles (along its two sides) is added.
  * The inner integral is adaptive Gauss-Kronrod (7-15 points), split at the knots of B-spline
  * surfaces; the outer one runs over each coedge's pcurve (cb_topo_coedge_pcurve_range), adaptive
  * Gauss-Kronrod split at the knots of the pcurve and of the edge and at the knot lines of the
@@ -79,7 +84,9 @@ cb_status cb_mass_shell(cb_mass_props *m, const cb_topo_body *b, int k, double r
                         cb_context *ctx, cb_error *err);
 
 /* The same for the whole body: every shell (voids count negative, as their shells face into
- * the cavity), areas added, centroid of the total volume. */
+ * the cavity), areas added, centroid of the total volume. An open shell of a surface model
+ * (a sheet beside the solids: shell.solid < 0, some edge used once) adds its area only, as it
+ * bounds no volume; a body with no closed shell fails as cb_mass_shell does on the first. */
 cb_status cb_mass_body(cb_mass_props *m, const cb_topo_body *b, double rel_tol, cb_context *ctx,
                        cb_error *err);
 

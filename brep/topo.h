@@ -413,6 +413,12 @@ cb_status cb_topo_repair_pcurves(cb_topo_body *b, double tol, int n_samples, int
 cb_status cb_topo_shell_volume(double *volume, const cb_topo_body *b, int shell, int n_columns,
                                double tol, cb_error *err);
 
+/* Turns shell k inside out: every face's same_sense negated, the coedges of each of its loops
+ * put in reverse order with their senses negated (so loops still run counter-clockwise about
+ * the face's normal). Edges, curves, pcurves and surfaces are unchanged. Invalidates the
+ * incidence index (call cb_topo_body_index again). */
+void cb_topo_shell_reverse(cb_topo_body *b, int k);
+
 /* ---------------------------------------------------------------- validation --------------- */
 
 /* The problems found, as sentences naming the entities ("edge 12: used by 3 coedges"). */

@@ -1,5 +1,6 @@
 /* Orientation of closed shells: the signed enclosed volume by the divergence theorem,
  * integrated over each face's trimmed parameter domain. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -139,6 +140,38 @@ static double integrand(const cb_topo_inverter *inv, const double c[3], double u
     return cb_vec3_dot(x, n) / 3.0;
 }
 
+static const double gx[3] = {-0.7745966692414834, 0.0, 0.7745966692414834},
+                    gw[3] = {0.5555555555555556, 0.8888888888888888, 0.5555555555555556};
+
+/* 1 when the line b = y of the surface collapses to a point (a pole). */
+static int pole_at(const cb_topo_inverter *inv, int a, double y, double tol)
+{
+    if (!isfinite(y) || !(inv->period[a] > 0))
+        return 0;
+    double p[2], q[2];
+    p[1 - a] = q[1 - a] = y;
+    p[a] = 0;
+    q[a] = 0.5 * inv->period[a];
+    return cb_topo_inverter_spread(inv, p, q) <= tol;
+}
+
+/* The flux over the whole band [a0, a0 + period] x [b0, b1] (between two poles), by columns
+ * as face_flux integrates. */
+static double band_flux(const cb_topo_inverter *inv, const double centre[3], int a, double a0,
+                        double b0, double b1, int n_columns)
+{
+    double width = inv->period[a] / n_columns, piece = (b1 - b0) / 8, sum = 0;
+    for (int col = 0; col < n_columns; col++)
+        for (int i = 0; i < 8; i++)
+            for (int g = 0; g < 3; g++) {
+                double uv[2];
+                uv[a] = a0 + (col + 0.5) * width;
+                uv[1 - a] = b0 + piece * (i + 0.5 + 0.5 * gx[g]);
+                sum += width * 0.5 * piece * gw[g] * integrand(inv, centre, uv[0], uv[1]);
+            }
+    return sum;
+}
+
 /* The flux integral over face f's domain (without its sense). Columns run across coordinate
  * a, rays and quadrature along b = 1 - a. */
 static cb_status face_flux(double *flux, const cb_topo_body *b, int f, const cb_topo_inverter *inv,
@@ -195,8 +228,6 @@ static cb_status face_flux(double *flux, const cb_topo_body *b, int f, const cb_
         st = cb_error_set(err, CB_ERR_NOMEM, "shell volume: out of memory");
         goto done;
     }
-    static const double gx[3] = {-0.7745966692414834, 0.0, 0.7745966692414834},
-                        gw[3] = {0.5555555555555556, 0.8888888888888888, 0.5555555555555556};
     double width = (hi_a - lo_a) / n_columns, piece = (hi_b - lo_b) / 8;
     for (int col = 0; col < n_columns && !st && width > 0; col++) {
         double x = lo_a + (col + 0.5) * width;
@@ -258,6 +289,28 @@ static cb_status face_flux(double *flux, const cb_topo_body *b, int f, const cb_
                 }
         }
     }
+    /* The columns take the region inside the loops by crossing parity, which ignores which
+     * way the loops run. On a surface closed in a with a pole at both ends in b (a sphere) a
+     * loop that does not wind bounds two regions, and the face is the one its loops run
+     * round counter-clockwise (clockwise where same_sense is 0): where their signed area in
+     * (u, v) says the other, the face is the complement of the parity region. */
+    if (!st && !any[0] && !any[1] && Pa > 0 && pole_at(inv, a, inv->box[2 * bb], tol) &&
+        pole_at(inv, a, inv->box[2 * bb + 1], tol)) {
+        double area = 0;
+        for (int l = 0; l < pg.n_loops; l++)
+            for (int k = pg.start[l]; k < pg.start[l + 1]; k++) {
+                double p[2], q[2];
+                point_of(p, &pg, inv, l, k);
+                point_of(q, &pg, inv, l, k + 1);
+                area += p[0] * q[1] - q[0] * p[1];
+            }
+        if (a == 1)
+            area = -area; /* columns across v: the roles of u and v swap */
+        if ((area < 0) == (b->faces[f].same_sense != 0))
+            *flux = band_flux(inv, centre, a, lo_a, inv->box[2 * bb], inv->box[2 * bb + 1],
+                              n_columns) -
+                    *flux;
+    }
 done:
     free(cut);
     polygons_clear(&pg);
@@ -287,4 +340,23 @@ cb_status cb_topo_shell_volume(double *volume, const cb_topo_body *b, int shell,
         *volume += b->faces[f].same_sense ? flux : -flux;
     }
     return st;
+}
+
+void cb_topo_shell_reverse(cb_topo_body *b, int k)
+{
+    const cb_topo_shell *sh = &b->shells[k];
+    for (int f = sh->first; f < sh->first + sh->count; f++) {
+        cb_topo_face *fc = &b->faces[f];
+        fc->same_sense ^= 1;
+        for (int l = fc->first; l < fc->first + fc->count; l++) {
+            cb_topo_coedge *c = b->coedges + b->loops[l].first;
+            for (int i = 0, j = b->loops[l].count - 1; i < j; i++, j--) {
+                cb_topo_coedge t = c[i];
+                c[i] = c[j];
+                c[j] = t;
+            }
+            for (int i = 0; i < b->loops[l].count; i++)
+                c[i].sense ^= 1;
+        }
+    }
 }

@@ -4,11 +4,21 @@
  * the file, with their CLOSED_SHELL / OPEN_SHELL / ORIENTED_CLOSED_SHELL, ADVANCED_FACE (or
  * FACE_SURFACE), FACE_BOUND / FACE_OUTER_BOUND, EDGE_LOOP, ORIENTED_EDGE, EDGE_CURVE and
  * VERTEX_POINT; surfaces PLANE, CYLINDRICAL_, CONICAL_, SPHERICAL_, TOROIDAL_SURFACE,
- * B_SPLINE_SURFACE_WITH_KNOTS (simple or the complex rational form), SURFACE_OF_REVOLUTION,
- * SURFACE_OF_LINEAR_EXTRUSION; curves LINE, CIRCLE, ELLIPSE, B_SPLINE_CURVE_WITH_KNOTS (simple
- * or rational), SURFACE_CURVE / SEAM_CURVE / INTERSECTION_CURVE through their 3D curve, and the
- * PCURVEs these carry (2D lines, conics and B-splines), attached to the coedge of the face on
- * their surface. Unclamped B-spline knot vectors are clamped exactly by knot insertion.
+ * B-spline surfaces (simple or the complex rational form) with explicit knots
+ * (B_SPLINE_SURFACE_WITH_KNOTS) or with the knots their form implies (UNIFORM_, QUASI_UNIFORM_,
+ * BEZIER_SURFACE: ISO 10303-42's knot vectors), SURFACE_OF_REVOLUTION,
+ * SURFACE_OF_LINEAR_EXTRUSION; curves LINE, CIRCLE, ELLIPSE, B-spline curves in the same forms,
+ * PARABOLA and HYPERBOLA as exact rational quadratics (cb_nurbs_curve_parabola, _hyperbola)
+ * over their TRIMMED_CURVE's trims or their edge's vertices, TRIMMED_CURVE as its basis curve
+ * run in the trimmed curve's sense, SURFACE_CURVE / SEAM_CURVE / INTERSECTION_CURVE through
+ * their 3D curve, and the PCURVEs these carry (2D lines, conics and B-splines), attached to the
+ * coedge of the face on their surface. Unclamped B-spline knot vectors are clamped exactly by
+ * knot insertion. Keywords and enumerations are read in any case (`Header;`); measures with
+ * unit in their simple (4 parameters) and complex (MEASURE_WITH_UNIT part, 2) forms; in
+ * strings, \S\c and a lone quote not followed by ',' or ')' are text. Geometry not listed
+ * (OFFSET_SURFACE, RECTANGULAR_TRIMMED_SURFACE, DEGENERATE_TOROIDAL_SURFACE, COMPOSITE_CURVE,
+ * POLYLINE, horn and spindle tori) is refused with CB_ERR_UNSUPPORTED naming the entity and
+ * line.
  * Entities the mapping does not reach are skipped. A VERTEX_LOOP bound (a pole or an apex
  * inside a face) is skipped too: it carries no edge. A face left with no loop (a whole sphere
  * or torus, written with a VERTEX_LOOP only or with no bound at all) gets the seams and poles
@@ -37,11 +47,19 @@
  * argument and edge->tol, so the edges of a body read here that lie within the cap pass its
  * edge checks at the file's own tolerance.
  *
- * Assemblies: a solid held by a representation that is linked up a tree of
- * (SHAPE_)REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION to a root is moved by the composed
- * ITEM_DEFINED_TRANSFORMATIONs (rep_1 the child, transform_item_1 its placement, transform_item_2
- * the placement in the parent). Each solid is read once, in the placement of its first chain;
- * instancing one part several times (MAPPED_ITEM, repeated relationships) is not expanded.
+ * Orientation: a closed shell of a solid written inside out (an outer shell enclosing a
+ * negative volume, a void a positive one, by cb_topo_shell_volume) is turned round
+ * (cb_topo_shell_reverse), as Open CASCADE's reader does.
+ *
+ * Assemblies: every solid is placed once per path up the assembly tree from a representation
+ * holding it to a root (step_placements_for): each instance a solid of the body, moved by the
+ * composed ITEM_DEFINED_TRANSFORMATIONs of (SHAPE_)REPRESENTATION_RELATIONSHIP_WITH_
+ * TRANSFORMATION (rep_1 the child, transform_item_1 its placement, transform_item_2 the
+ * placement in the parent; written parent first where the NEXT_ASSEMBLY_USAGE_OCCURRENCE of
+ * its CONTEXT_DEPENDENT_SHAPE_REPRESENTATION says so, then inverted) and of MAPPED_ITEMs
+ * (mapping_origin onto mapping_target in each shape representation holding the item).
+ * Representations related without a transformation are one shape; equal placements of one
+ * solid count once. Product names and the instance tree are not kept.
  *
  * Errors: CB_ERR_IO when the file cannot be read; CB_ERR_PARSE for malformed syntax or
  * parameters of the wrong kind or count; CB_ERR_INVALID for inconsistent content (dangling or

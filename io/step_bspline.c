@@ -7,27 +7,56 @@
 
 #include "io/step_internal.h"
 
+/* How the knots of a B-spline are given: explicitly (..._WITH_KNOTS), or implied by the form
+ * (ISO 10303-42 4.3.4 and 4.3.5: uniform, quasi-uniform and piecewise Bezier curves and
+ * surfaces carry no knots). */
+typedef enum { BS_KNOTS_EXPLICIT, BS_KNOTS_UNIFORM, BS_KNOTS_QUASI_UNIFORM, BS_KNOTS_BEZIER } bs_knots;
+
 /* The attributes a B-spline instance carries, wherever its form puts them. */
 typedef struct {
     const step_node *deg[2], *points, *mults[2], *knots[2], *weights;
+    bs_knots form;
 } bs_view;
+
+/* The subtype of B_SPLINE_CURVE (surface = 0) or B_SPLINE_SURFACE (1) that r holds, and its
+ * part; NULL if none. */
+static const step_part *bs_subtype(step_file *f, const step_rec *r, int surface, bs_knots *form)
+{
+    static const step_type types[2][4] = {
+        {STEP_T_B_SPLINE_CURVE_WITH_KNOTS, STEP_T_UNIFORM_CURVE, STEP_T_QUASI_UNIFORM_CURVE,
+         STEP_T_BEZIER_CURVE},
+        {STEP_T_B_SPLINE_SURFACE_WITH_KNOTS, STEP_T_UNIFORM_SURFACE, STEP_T_QUASI_UNIFORM_SURFACE,
+         STEP_T_BEZIER_SURFACE}};
+    for (int k = 0; k < 4; k++) {
+        const step_part *p = step_part_of(f, r, types[surface][k]);
+        if (p) {
+            *form = (bs_knots)k;
+            return p;
+        }
+    }
+    return NULL;
+}
 
 /* Finds the attributes of a curve (surface = 0) or surface (surface = 1) instance. */
 static cb_status bs_view_of(bs_view *v, step_file *f, const step_rec *r, int surface)
 {
     memset(v, 0, sizeof *v);
-    step_type with_knots =
-        surface ? STEP_T_B_SPLINE_SURFACE_WITH_KNOTS : STEP_T_B_SPLINE_CURVE_WITH_KNOTS;
-    const step_part *pk = step_part_of(f, r, with_knots);
+    const step_part *pk = bs_subtype(f, r, surface, &v->form);
     if (!pk)
         return step_fail(f, r, NULL, CB_ERR_UNSUPPORTED,
-                         "only B-splines with explicit knots (%s) are supported",
-                         step_type_name(with_knots));
+                         "a B-spline %s without its knots: none of %s_WITH_KNOTS, UNIFORM_%s, "
+                         "QUASI_UNIFORM_%s, BEZIER_%s",
+                         surface ? "surface" : "curve",
+                         surface ? "B_SPLINE_SURFACE" : "B_SPLINE_CURVE",
+                         surface ? "SURFACE" : "CURVE", surface ? "SURFACE" : "CURVE",
+                         surface ? "SURFACE" : "CURVE");
+    int explicit_knots = v->form == BS_KNOTS_EXPLICIT;
     const step_node *a;
     if (!r->complex) {
-        /* name, degree(s), points, form, closed flag(s), self_intersect, multiplicities,
-         * knots, knot_spec */
-        if (!(a = step_args(f, r, pk, surface ? 13 : 9)))
+        /* name, degree(s), points, form, closed flag(s), self_intersect, then for the
+         * _WITH_KNOTS form multiplicities, knots, knot_spec */
+        int n_base = surface ? 8 : 6;
+        if (!(a = step_args(f, r, pk, n_base + (explicit_knots ? (surface ? 5 : 3) : 0))))
             return f->err->status;
         a = step_next(a);
         v->deg[0] = a;
@@ -49,13 +78,15 @@ static cb_status bs_view_of(bs_view *v, step_file *f, const step_rec *r, int sur
         if (surface)
             v->deg[1] = a = step_next(a);
         v->points = step_next(a);
-        if (!(a = step_args(f, r, pk, surface ? 5 : 3)))
+        if (!(a = step_args(f, r, pk, explicit_knots ? (surface ? 5 : 3) : 0)))
             return f->err->status;
         const step_part *pr = step_part_of(
             f, r, surface ? STEP_T_RATIONAL_B_SPLINE_SURFACE : STEP_T_RATIONAL_B_SPLINE_CURVE);
         if (pr && !(v->weights = step_args(f, r, pr, 1)))
             return f->err->status;
     }
+    if (!explicit_knots)
+        return CB_OK;
     v->mults[0] = a;
     if (surface) {
         v->mults[1] = a = step_next(a);
@@ -64,6 +95,43 @@ static cb_status bs_view_of(bs_view *v, step_file *f, const step_rec *r, int sur
     } else {
         v->knots[0] = step_next(a);
     }
+    return CB_OK;
+}
+
+/* The knot vector (n + p + 1 values) that a form without explicit knots implies for n control
+ * points of degree p (ISO 10303-42, B_SPLINE_CURVE's knot definitions): uniform -p, -p + 1,
+ * ..., n, each once (so the curve is unclamped and is clamped exactly afterwards, its domain
+ * [0, n - p]); quasi-uniform 0, 1, ..., n - p with the ends p + 1 times; piecewise Bezier 0, 1,
+ * ..., (n - 1) / p with the ends p + 1 times and the interior values p times, which needs
+ * n - 1 to be a multiple of p. */
+static cb_status implied_knots(double **out, int *n_out, step_file *f, const step_rec *r,
+                               bs_knots form, int n, int p, const char *dir)
+{
+    if (form == BS_KNOTS_BEZIER && (n - 1) % p)
+        return step_fail(f, r, NULL, CB_ERR_INVALID,
+                         "%spiecewise Bezier form with %d control points of degree %d: "
+                         "%d - 1 is not a multiple of %d",
+                         dir, n, p, n, p);
+    if (n < p + 1)
+        return step_fail(f, r, NULL, CB_ERR_INVALID, "%s%d control points for degree %d", dir, n,
+                         p);
+    int m = n + p + 1;
+    double *U = malloc((size_t)m * sizeof *U);
+    if (!U)
+        return cb_error_set(f->err, CB_ERR_NOMEM, "%s: no memory for %d knots", f->path, m);
+    for (int k = 0; k < m; k++) {
+        switch (form) {
+        case BS_KNOTS_UNIFORM: U[k] = k - p; break;
+        case BS_KNOTS_QUASI_UNIFORM:
+            U[k] = k <= p ? 0 : k >= n ? n - p : k - p;
+            break;
+        default: /* Bezier: the interior knots p times each */
+            U[k] = k <= p ? 0 : k >= n ? (n - 1) / p : (k - 1) / p;
+            break;
+        }
+    }
+    *out = U;
+    *n_out = m;
     return CB_OK;
 }
 
@@ -277,7 +345,9 @@ cb_status step_bspline_curve(step_file *f, const step_rec *r, int dim, cb_nurbs_
     }
     if ((st = read_points(pts, f, r, v.points, dim)) ||
         (w && (st = read_reals(w, f, r, v.weights, "weight"))) ||
-        (st = expand_knots(&U, &nk, f, r, v.mults[0], v.knots[0], (int)deg, "")))
+        (st = v.form == BS_KNOTS_EXPLICIT
+                  ? expand_knots(&U, &nk, f, r, v.mults[0], v.knots[0], (int)deg, "")
+                  : implied_knots(&U, &nk, f, r, v.form, n, (int)deg, "")))
         goto done;
     int p = (int)deg;
     if (clampable(U, nk, n, p) && !is_clamped(U, n, p)) {
@@ -435,9 +505,18 @@ cb_status step_bspline_surface(step_file *f, const step_rec *r, cb_nurbs_surface
             wrow = step_next(wrow);
         }
     }
-    if (st || (st = expand_knots(&U[0], &nk[0], f, r, v.mults[0], v.knots[0], (int)deg[0], "u ")) ||
-        (st = expand_knots(&U[1], &nk[1], f, r, v.mults[1], v.knots[1], (int)deg[1], "v ")))
+    if (st)
         goto done;
+    for (int dir = 0; dir < 2; dir++) {
+        const char *name = dir ? "v " : "u ";
+        st = v.form == BS_KNOTS_EXPLICIT
+                 ? expand_knots(&U[dir], &nk[dir], f, r, v.mults[dir], v.knots[dir], (int)deg[dir],
+                                name)
+                 : implied_knots(&U[dir], &nk[dir], f, r, v.form, dir ? n_v : n_u, (int)deg[dir],
+                                 name);
+        if (st)
+            goto done;
+    }
     for (int dir = 0; dir < 2; dir++) {
         int n = dir ? n_v : n_u, p = (int)deg[dir];
         if (clampable(U[dir], nk[dir], n, p) && !is_clamped(U[dir], n, p)) {

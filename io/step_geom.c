@@ -165,11 +165,157 @@ static cb_status conic(step_file *f, const step_rec *r, int dim, step_type t, cb
     return CB_OK;
 }
 
+/* Runs c backwards over the same points: a line or conic by turning its frame half round its
+ * x axis (y and z negated: C(t) becomes the former C(-t)), a B-spline by reversal. */
+static cb_status reverse_curve(step_file *f, const step_rec *r, cb_topo_curve *c)
+{
+    if (c->kind == CB_CURVE_NURBS) {
+        cb_status st = cb_nurbs_curve_reverse(c->nurbs, c->nurbs, f->err);
+        return st ? step_fail_prefix(f, r, f->err) : CB_OK;
+    }
+    for (int i = 0; i < 3; i++) {
+        c->frame.y[i] = -c->frame.y[i];
+        c->frame.z[i] = -c->frame.z[i];
+    }
+    return CB_OK;
+}
+
+/* One trimming select of a TRIMMED_CURVE (a set of a CARTESIAN_POINT and/or a
+ * PARAMETER_VALUE): *has_pt, *has_t say which it gives. */
+static cb_status trim_select(step_file *f, const step_rec *r, const step_node *set, int dim,
+                             const char *what, double pt[3], int *has_pt, double *t, int *has_t)
+{
+    cb_status st = step_get_list(f, r, set, what, 1, 2);
+    if (st)
+        return st;
+    *has_pt = *has_t = 0;
+    const step_node *x = set + 1;
+    for (int k = 0; k < set->n; k++, x = step_next(x)) {
+        if (x->kind == STEP_REF) {
+            const step_rec *q;
+            if ((st = step_get_ref(f, r, x, what, &q)) || (st = step_point(f, q, dim, pt)))
+                return st;
+            *has_pt = 1;
+        } else {
+            if ((st = step_get_real(f, r, x, what, t)))
+                return st;
+            *has_t = 1;
+        }
+    }
+    return CB_OK;
+}
+
+/* TRIMMED_CURVE(name, basis_curve, trim_1, trim_2, sense_agreement, master_representation):
+ * the basis curve, reversed where the sense disagrees. Edges take their range from their
+ * vertices, so the trims only bound the basis curves that need a range to have a finite exact
+ * form (PARABOLA, HYPERBOLA): by the parameters where both are given (unless the master
+ * representation is CARTESIAN and both points are given), else by the points. */
+static cb_status trimmed(step_file *f, const step_rec *r, int dim, cb_topo_curve *c)
+{
+    const step_node *a = step_args(f, r, &f->parts[r->part0], 6);
+    const step_rec *basis;
+    cb_status st;
+    int sense;
+    if (!a)
+        return f->err->status;
+    const step_node *x = step_next(a);
+    if ((st = step_get_ref(f, r, x, "basis_curve", &basis)))
+        return st;
+    double pt[2][3], t[2];
+    int has_pt[2], has_t[2];
+    x = step_next(x);
+    for (int k = 0; k < 2; k++, x = step_next(x))
+        if ((st = trim_select(f, r, x, dim, k ? "trim_2" : "trim_1", pt[k], &has_pt[k], &t[k],
+                              &has_t[k])))
+            return st;
+    if ((st = step_get_bool(f, r, x, "sense_agreement", &sense)))
+        return st;
+    int cartesian = step_is_enum(f, step_next(x), "CARTESIAN");
+    int saved_kind = f->bound_kind, saved_edge = f->bound_from_edge;
+    double saved_pt[2][3], saved_t[2];
+    memcpy(saved_pt, f->bound_pt, sizeof saved_pt);
+    memcpy(saved_t, f->bound_t, sizeof saved_t);
+    if (has_t[0] && has_t[1] && !(cartesian && has_pt[0] && has_pt[1])) {
+        f->bound_kind = 2;
+        f->bound_t[0] = t[0];
+        f->bound_t[1] = t[1];
+        f->bound_from_edge = 0;
+    } else if (has_pt[0] && has_pt[1]) {
+        f->bound_kind = 1;
+        memcpy(f->bound_pt, pt, sizeof pt);
+        f->bound_from_edge = 0;
+    }
+    st = step_curve(f, basis, dim, c);
+    f->bound_kind = saved_kind;
+    f->bound_from_edge = saved_edge;
+    memcpy(f->bound_pt, saved_pt, sizeof saved_pt);
+    memcpy(f->bound_t, saved_t, sizeof saved_t);
+    if (!st && !sense)
+        st = reverse_curve(f, r, c);
+    return st;
+}
+
+/* PARABOLA(name, position, focal_dist) and HYPERBOLA(name, position, semi_axis,
+ * semi_imag_axis): exact rational quadratics (brep/analytic.h) over the range in f->bound_*
+ * (the parameters of the ends, found in closed form from points: t = y / 2 focal on the
+ * parabola, asinh(y / b) on the hyperbola, y the coordinate along the position's y axis). */
+static cb_status open_conic(step_file *f, const step_rec *r, int dim, step_type t,
+                            cb_topo_curve *c)
+{
+    int hyp = t == STEP_T_HYPERBOLA;
+    const step_node *a = step_args(f, r, &f->parts[r->part0], hyp ? 4 : 3);
+    cb_frame fr;
+    double p1, p2 = 0;
+    if (!a)
+        return f->err->status;
+    const step_node *x = step_next(a);
+    cb_status st = placement(f, r, x, dim, &fr);
+    x = step_next(x);
+    if (!st)
+        st = positive(f, r, x, hyp ? "semi_axis" : "focal_dist", &p1);
+    if (!st && hyp)
+        st = positive(f, r, step_next(x), "semi_imag_axis", &p2);
+    if (st)
+        return st;
+    if (!f->bound_kind)
+        return step_fail(f, r, NULL, CB_ERR_UNSUPPORTED,
+                         "an unbounded %s that no TRIMMED_CURVE or edge bounds",
+                         hyp ? "hyperbola" : "parabola");
+    double range[2];
+    for (int k = 0; k < 2; k++) {
+        if (f->bound_kind == 2) {
+            range[k] = f->bound_t[k];
+            continue;
+        }
+        double l[3];
+        cb_frame_to_local(l, &fr, f->bound_pt[k]);
+        range[k] = hyp ? asinh(l[1] / p2) : l[1] / (2 * p1);
+    }
+    if (f->bound_from_edge)
+        f->bound_used = 1;
+    if (range[0] > range[1]) {
+        double s = range[0];
+        range[0] = range[1];
+        range[1] = s;
+    }
+    if (!(range[1] > range[0]))
+        return step_fail(f, r, NULL, CB_ERR_INVALID, "%s bounded to the single parameter %.17g",
+                         hyp ? "hyperbola" : "parabola", range[0]);
+    st = hyp ? cb_nurbs_curve_hyperbola(c->nurbs, fr.o, fr.x, fr.y, p1, p2, range[0], range[1],
+                                        f->err)
+             : cb_nurbs_curve_parabola(c->nurbs, fr.o, fr.x, fr.y, p1, range[0], range[1], f->err);
+    if (st)
+        return step_fail_prefix(f, r, f->err);
+    c->kind = CB_CURVE_NURBS;
+    return CB_OK;
+}
+
 static cb_status curve_body(step_file *f, const step_rec *r, int dim, cb_topo_curve *c)
 {
     step_type t = step_rec_type(f, r);
     if (step_part_of(f, r, STEP_T_B_SPLINE_CURVE_WITH_KNOTS) ||
-        step_part_of(f, r, STEP_T_B_SPLINE_CURVE)) {
+        step_part_of(f, r, STEP_T_B_SPLINE_CURVE) || step_part_of(f, r, STEP_T_UNIFORM_CURVE) ||
+        step_part_of(f, r, STEP_T_QUASI_UNIFORM_CURVE) || step_part_of(f, r, STEP_T_BEZIER_CURVE)) {
         cb_status st = step_bspline_curve(f, r, dim, c->nurbs);
         if (!st)
             c->kind = CB_CURVE_NURBS;
@@ -181,6 +327,9 @@ static cb_status curve_body(step_file *f, const step_rec *r, int dim, cb_topo_cu
     case STEP_T_LINE: return line(f, r, dim, c);
     case STEP_T_CIRCLE:
     case STEP_T_ELLIPSE: return conic(f, r, dim, t, c);
+    case STEP_T_PARABOLA:
+    case STEP_T_HYPERBOLA: return open_conic(f, r, dim, t, c);
+    case STEP_T_TRIMMED_CURVE: return trimmed(f, r, dim, c);
     case STEP_T_SURFACE_CURVE:
     case STEP_T_SEAM_CURVE:
     case STEP_T_INTERSECTION_CURVE: {
@@ -296,7 +445,10 @@ static cb_status swept(step_file *f, const step_rec *r, step_type t, cb_topo_sur
 static cb_status surface_body(step_file *f, const step_rec *r, cb_topo_surface *s)
 {
     if (step_part_of(f, r, STEP_T_B_SPLINE_SURFACE_WITH_KNOTS) ||
-        step_part_of(f, r, STEP_T_B_SPLINE_SURFACE)) {
+        step_part_of(f, r, STEP_T_B_SPLINE_SURFACE) ||
+        step_part_of(f, r, STEP_T_UNIFORM_SURFACE) ||
+        step_part_of(f, r, STEP_T_QUASI_UNIFORM_SURFACE) ||
+        step_part_of(f, r, STEP_T_BEZIER_SURFACE)) {
         cb_status st = step_bspline_surface(f, r, s->nurbs);
         if (!st)
             s->kind = CB_SURFACE_NURBS;

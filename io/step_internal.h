@@ -57,6 +57,8 @@ typedef struct {
     X(AXIS1_PLACEMENT)                                                                          \
     X(AXIS2_PLACEMENT_2D)                                                                       \
     X(AXIS2_PLACEMENT_3D)                                                                       \
+    X(BEZIER_CURVE)                                                                             \
+    X(BEZIER_SURFACE)                                                                           \
     X(BREP_WITH_VOIDS)                                                                          \
     X(B_SPLINE_CURVE)                                                                           \
     X(B_SPLINE_CURVE_WITH_KNOTS)                                                                \
@@ -65,10 +67,14 @@ typedef struct {
     X(CARTESIAN_POINT)                                                                          \
     X(CIRCLE)                                                                                   \
     X(CLOSED_SHELL)                                                                             \
+    X(COMPOSITE_CURVE)                                                                          \
+    X(COMPOSITE_CURVE_SEGMENT)                                                                  \
     X(CONICAL_SURFACE)                                                                          \
+    X(CONTEXT_DEPENDENT_SHAPE_REPRESENTATION)                                                   \
     X(CONVERSION_BASED_UNIT)                                                                    \
     X(CYLINDRICAL_SURFACE)                                                                      \
     X(DEFINITIONAL_REPRESENTATION)                                                              \
+    X(DEGENERATE_TOROIDAL_SURFACE)                                                              \
     X(DIRECTION)                                                                                \
     X(EDGE_CURVE)                                                                               \
     X(EDGE_LOOP)                                                                                \
@@ -78,25 +84,37 @@ typedef struct {
     X(FACE_SURFACE)                                                                             \
     X(GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT)                                                      \
     X(GLOBAL_UNIT_ASSIGNED_CONTEXT)                                                             \
+    X(HYPERBOLA)                                                                                \
     X(INTERSECTION_CURVE)                                                                       \
     X(ITEM_DEFINED_TRANSFORMATION)                                                              \
     X(LENGTH_MEASURE_WITH_UNIT)                                                                 \
     X(LENGTH_UNIT)                                                                              \
     X(LINE)                                                                                     \
     X(MANIFOLD_SOLID_BREP)                                                                      \
+    X(MAPPED_ITEM)                                                                              \
     X(MEASURE_WITH_UNIT)                                                                        \
+    X(NEXT_ASSEMBLY_USAGE_OCCURRENCE)                                                           \
+    X(OFFSET_SURFACE)                                                                           \
     X(OPEN_SHELL)                                                                               \
     X(ORIENTED_CLOSED_SHELL)                                                                    \
     X(ORIENTED_EDGE)                                                                            \
+    X(PARABOLA)                                                                                 \
     X(PCURVE)                                                                                   \
     X(PLANE)                                                                                    \
     X(PLANE_ANGLE_MEASURE_WITH_UNIT)                                                            \
     X(PLANE_ANGLE_UNIT)                                                                         \
+    X(POLYLINE)                                                                                 \
+    X(PRODUCT_DEFINITION_SHAPE)                                                                 \
+    X(QUASI_UNIFORM_CURVE)                                                                      \
+    X(QUASI_UNIFORM_SURFACE)                                                                    \
     X(RATIONAL_B_SPLINE_CURVE)                                                                  \
     X(RATIONAL_B_SPLINE_SURFACE)                                                                \
+    X(RECTANGULAR_TRIMMED_SURFACE)                                                              \
+    X(REPRESENTATION_MAP)                                                                       \
     X(REPRESENTATION_RELATIONSHIP)                                                              \
     X(REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION)                                          \
     X(SEAM_CURVE)                                                                               \
+    X(SHAPE_DEFINITION_REPRESENTATION)                                                          \
     X(SHAPE_REPRESENTATION_RELATIONSHIP)                                                        \
     X(SHELL_BASED_SURFACE_MODEL)                                                                \
     X(SI_UNIT)                                                                                  \
@@ -105,7 +123,10 @@ typedef struct {
     X(SURFACE_OF_LINEAR_EXTRUSION)                                                              \
     X(SURFACE_OF_REVOLUTION)                                                                    \
     X(TOROIDAL_SURFACE)                                                                         \
+    X(TRIMMED_CURVE)                                                                            \
     X(UNCERTAINTY_MEASURE_WITH_UNIT)                                                            \
+    X(UNIFORM_CURVE)                                                                            \
+    X(UNIFORM_SURFACE)                                                                          \
     X(VECTOR)                                                                                   \
     X(VERTEX_LOOP)                                                                              \
     X(VERTEX_POINT)
@@ -167,6 +188,15 @@ typedef struct {
     double angle_rad;
     double length_mm;
     double uncertainty;
+    /* The range of a curve that has no finite exact form without one (PARABOLA, HYPERBOLA):
+     * the trims of a TRIMMED_CURVE around it (bound_kind 2: parameters, 1: points), else the
+     * vertices of the edge being mapped (bound_kind 1, bound_from_edge); bound_used is set
+     * when a curve took its range from the edge, so that it is not shared with other edges. */
+    int bound_kind, bound_from_edge, bound_used;
+    double bound_pt[2][3], bound_t[2];
+    /* The assembly structure, gathered when the first solid is placed (step_units.c). */
+    struct step_link *links;
+    int n_links, links_ready;
     cb_topo_body *body;
     cb_error *err;     /* where messages go */
 } step_file;
@@ -236,11 +266,16 @@ void step_leave(step_file *f, const step_rec *r);
 /* Sets f->length_mm, f->angle_rad and f->uncertainty from the context of the representation
  * holding `item` (a solid or shell model); defaults (mm, radian, 1e-6) when there is none. */
 cb_status step_units_for(step_file *f, const step_rec *item);
-/* The placement of the representation holding `item` in the root of its assembly (identity
- * for a part file): composes the ITEM_DEFINED_TRANSFORMATIONs of the representation
- * relationships up the tree. Only single-instance chains are followed: a representation used
- * twice in an assembly is placed by its first use. */
-cb_status step_placement_for(step_file *f, const step_rec *item, cb_xform *x);
+/* The placements of the representation holding `item` in the roots of its assembly: one per
+ * path up the assembly's tree, each the composition of the ITEM_DEFINED_TRANSFORMATIONs along
+ * it (just the identity for a part file). The tree's links are the representation
+ * relationships with a transformation (child rep_1, parent rep_2) and the MAPPED_ITEMs (the
+ * mapped representation placed by mapping_origin -> mapping_target into each shape
+ * representation holding the item); relationships without a transformation join
+ * representations of one shape, either way round. Placements equal to one already found are
+ * dropped: an item placed twice at one place is one instance (a MAPPED_ITEM held both by its
+ * occurrence's representation and by the master's). *out is a new array of *n (free it). */
+cb_status step_placements_for(step_file *f, const step_rec *item, cb_xform **out, int *n);
 
 /* ---------------------------------------------------------------- step_geom.c -------------- */
 
@@ -250,9 +285,11 @@ cb_status step_direction(step_file *f, const step_rec *r, int dim, double d[3]);
 /* An AXIS2_PLACEMENT_3D (dim 3) or AXIS2_PLACEMENT_2D in the z = 0 plane (dim 2). */
 cb_status step_frame(step_file *f, const step_rec *r, int dim, cb_frame *out);
 
-/* A curve entity (LINE, CIRCLE, ELLIPSE, B-spline, or SURFACE_CURVE / SEAM_CURVE /
- * INTERSECTION_CURVE, taken as their 3D curve) as a cb_topo_curve; dim 2 for pcurves, which
- * live in parameter space. out must be initialised; on failure it is left initialised. */
+/* A curve entity (LINE, CIRCLE, ELLIPSE, B-spline, PARABOLA and HYPERBOLA as exact rational
+ * quadratics over their range (f->bound_*), TRIMMED_CURVE as its basis curve run in the
+ * trimmed curve's sense, or SURFACE_CURVE / SEAM_CURVE / INTERSECTION_CURVE, taken as their
+ * 3D curve) as a cb_topo_curve; dim 2 for pcurves, which live in parameter space. out must be
+ * initialised; on failure it is left initialised. */
 cb_status step_curve(step_file *f, const step_rec *r, int dim, cb_topo_curve *out);
 cb_status step_surface(step_file *f, const step_rec *r, cb_topo_surface *out);
 

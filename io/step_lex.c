@@ -120,7 +120,18 @@ static cb_status expect_char(lexer *lx, char want, const char *context)
     return CB_OK;
 }
 
-/* A keyword [A-Za-z_][A-Za-z0-9_-]* at the cursor; *len 0 when there is none. */
+/* Upper-cases n bytes of the buffer at off: ISO 10303-21 writes keywords and enumerations in
+ * upper case, but writers exist that do not (`Header;`, `EndSec;`), and every later comparison
+ * (entity types, unit names, enumerations) is then made in one case. */
+static void to_upper(lexer *lx, size_t off, size_t n)
+{
+    char *s = lx->f->buf + off;
+    for (size_t k = 0; k < n; k++)
+        if (s[k] >= 'a' && s[k] <= 'z')
+            s[k] = (char)(s[k] - 'a' + 'A');
+}
+
+/* A keyword [A-Za-z_][A-Za-z0-9_-]* at the cursor, upper-cased; *len 0 when there is none. */
 static void keyword(lexer *lx, int *off, int *len)
 {
     size_t p = lx->pos;
@@ -129,6 +140,7 @@ static void keyword(lexer *lx, int *off, int *len)
                                is_digit((unsigned char)lx->s[p]) || lx->s[p] == '-'))
             p++;
     }
+    to_upper(lx, lx->pos, p - lx->pos);
     *off = (int)lx->pos;
     *len = (int)(p - lx->pos);
     lx->pos = p;
@@ -219,6 +231,12 @@ static cb_status delimited(lexer *lx, step_kind kind, char close)
                             : kind == STEP_ENUM ? "enumeration"
                                                 : "binary");
         char c = lx->s[p];
+        /* \S\c is the character c + 128 (ISO 10303-21 7.3.3): c may be a quote. */
+        if (kind == STEP_STRING && c == '\\' && p + 3 < lx->len && lx->s[p + 1] == 'S' &&
+            lx->s[p + 2] == '\\' && lx->s[p + 3] != '\n') {
+            p += 4;
+            continue;
+        }
         if (c == '\n') {
             if (kind != STEP_STRING)
                 return lex_fail(lx, start_line, "unterminated %s",
@@ -230,6 +248,17 @@ static cb_status delimited(lexer *lx, step_kind kind, char close)
                 p += 2;
                 continue;
             }
+            /* A string is a parameter: its closing quote is followed by ',' or ')'. A lone
+             * quote followed by anything else (not allowed, but written: bug28454's
+             * directives) is taken as part of the text, as Open CASCADE reads it. */
+            size_t q = p + 1;
+            while (kind == STEP_STRING && q < lx->len &&
+                   (lx->s[q] == ' ' || lx->s[q] == '\t' || lx->s[q] == '\r' || lx->s[q] == '\n'))
+                q++;
+            if (kind == STEP_STRING && q < lx->len && lx->s[q] != ',' && lx->s[q] != ')') {
+                p++;
+                continue;
+            }
             break;
         }
         if (kind == STEP_ENUM && !is_alpha((unsigned char)c) && !is_digit((unsigned char)c))
@@ -239,6 +268,8 @@ static cb_status delimited(lexer *lx, step_kind kind, char close)
     int k = new_node(lx, kind);
     if (k < 0)
         return no_memory(lx);
+    if (kind == STEP_ENUM)
+        to_upper(lx, lx->pos, p - lx->pos);
     step_node *x = &lx->f->nodes[k];
     x->line = start_line;
     x->v.text.off = (int)lx->pos;

@@ -40,6 +40,32 @@ static cb_status complete_pcurves(cb_topo_body *b, cb_error *err)
     return st;
 }
 
+/* Turns the closed shells of solids that a file writes inside out: an outer shell whose
+ * enclosed volume is negative, a void's whose is positive (brep/topo.h, cb_topo_shell_volume
+ * with 64 columns: a few percent, plenty for a sign), as Open CASCADE's reader does
+ * (ShapeFix_Solid). A shell whose volume cannot be decided is left as written (validation
+ * says why). */
+static cb_status orient_shells(cb_topo_body *b, cb_error *err)
+{
+    int turned = 0;
+    for (int k = 0; k < b->n_shells; k++) {
+        const cb_topo_shell *sh = &b->shells[k];
+        if (sh->solid < 0 || !sh->closed)
+            continue;
+        double vol;
+        cb_error local;
+        cb_status st = cb_topo_shell_volume(&vol, b, k, 64, b->tol, &local);
+        if (st == CB_ERR_NOMEM)
+            return cb_error_set(err, st, "%s", local.msg);
+        int void_shell = b->solids[sh->solid].first != k;
+        if (!st && (void_shell ? vol > 0 : vol < 0)) {
+            cb_topo_shell_reverse(b, k);
+            turned = 1;
+        }
+    }
+    return turned ? cb_topo_body_index(b, err) : CB_OK;
+}
+
 void cb_step_options_init(cb_step_options *opt)
 {
     opt->max_edge_tol_rel = CB_STEP_MAX_EDGE_TOL_REL;
@@ -74,6 +100,8 @@ static cb_status read_loaded(cb_topo_body **out, step_file *f, const cb_step_opt
         st = cb_topo_body_index(f->body, f->err);
     if (!st)
         st = complete_pcurves(f->body, f->err);
+    if (!st)
+        st = orient_shells(f->body, f->err);
     if (!st)
         st = step_fit_edge_tols(f->body, opt->max_edge_tol_rel, stats, f->err);
     if (st) {

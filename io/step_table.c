@@ -43,6 +43,7 @@ void step_file_free(step_file *f)
     free(f->state);
     free(f->memo);
     free(f->memo_kind);
+    free(f->links);
     memset(f, 0, sizeof *f);
 }
 

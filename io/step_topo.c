@@ -73,10 +73,12 @@ static cb_status edge_curve_geometry(step_file *f, const step_rec *r, int *out)
     int c = cb_topo_body_add_curve(f->body);
     if (c < 0)
         return no_memory(f);
+    f->bound_used = 0;
     cb_status st = step_curve(f, r, 3, &f->body->curves[c]);
     if (st)
         return st;
-    *out = memo_set(f, k, STEP_MEMO_CURVE, c);
+    /* A curve bounded by this edge's vertices (a parabola) is this edge's alone. */
+    *out = f->bound_used ? c : memo_set(f, k, STEP_MEMO_CURVE, c);
     return CB_OK;
 }
 
@@ -146,7 +148,12 @@ static cb_status edge(step_file *f, const step_rec *r, int *out)
     x = step_next(step_next(x));
     if ((st = step_get_ref(f, r, x, "edge_geometry", &g)) || (st = step_enter(f, r)))
         return st;
+    f->bound_kind = 1;
+    f->bound_from_edge = 1;
+    memcpy(f->bound_pt[0], f->body->vertices[iv0].p, sizeof f->bound_pt[0]);
+    memcpy(f->bound_pt[1], f->body->vertices[iv1].p, sizeof f->bound_pt[1]);
     st = edge_curve_geometry(f, g, &ic);
+    f->bound_kind = f->bound_from_edge = 0;
     step_leave(f, r);
     if (st || (st = step_get_bool(f, r, step_next(x), "same_sense", &same)))
         return st;
@@ -538,26 +545,34 @@ cb_status step_map_body(step_file *f)
         if (r->complex || (t != STEP_T_MANIFOLD_SOLID_BREP && t != STEP_T_BREP_WITH_VOIDS &&
                            t != STEP_T_SHELL_BASED_SURFACE_MODEL))
             continue;
-        cb_xform x;
+        cb_xform *xs = NULL;
+        int n_xs = 0;
         cb_status st = step_units_for(f, r);
         if (!st)
-            st = step_placement_for(f, r, &x);
+            st = step_placements_for(f, r, &xs, &n_xs);
         if (st)
             return st;
-        if (found && f->length_mm != b->length_unit_mm)
+        if (found && f->length_mm != b->length_unit_mm) {
+            free(xs);
             return step_fail(f, r, NULL, CB_ERR_UNSUPPORTED,
                              "length unit of %g mm differs from the %g mm of the first solid",
                              f->length_mm, b->length_unit_mm);
+        }
         b->length_unit_mm = f->length_mm;
         b->tol = fmax(b->tol, f->uncertainty);
-        /* Each solid gets its own copies, so that a placement moves only its geometry. */
-        memset(f->state, STEP_FRESH, (size_t)f->n_recs);
-        memset(f->memo_kind, 0, (size_t)f->n_recs);
-        int from[3] = {b->n_vertices, b->n_curves, b->n_surfaces};
-        if ((st = item(f, r)))
-            return st;
-        place(b, from, &x);
-        found++;
+        /* Each instance gets its own copies, so that a placement moves only its geometry. */
+        for (int i = 0; i < n_xs; i++) {
+            memset(f->state, STEP_FRESH, (size_t)f->n_recs);
+            memset(f->memo_kind, 0, (size_t)f->n_recs);
+            int from[3] = {b->n_vertices, b->n_curves, b->n_surfaces};
+            if ((st = item(f, r))) {
+                free(xs);
+                return st;
+            }
+            place(b, from, &xs[i]);
+            found++;
+        }
+        free(xs);
     }
     if (!found)
         return cb_error_set(f->err, CB_ERR_INVALID,

@@ -953,6 +953,74 @@ static void test_bad_input(void)
     cb_nurbs_curve_clear(C);
 }
 
+/* Parabola and hyperbola arcs (cb_nurbs_curve_parabola, _hyperbola): every sample lies on
+ * the conic (y^2 = 4 f x in the frame; x^2 / a^2 - y^2 / b^2 = 1 with x > 0), runs one way
+ * along it, and the ends (and, for the parabola, every parameter; for the hyperbola every
+ * knot) are the conic's points at the same parameter. */
+static void test_open_conics(check_rng *rng)
+{
+    cb_nurbs_curve_t C;
+    cb_nurbs_curve_init(C);
+    cb_error err;
+    double worst = 0;
+    for (int trial = 0; trial < 200; trial++) {
+        cb_frame f;
+        random_frame(&f, rng, 10);
+        int hyp = trial % 2;
+        double p1 = check_rng_uniform(rng, 0.1, 5), p2 = check_rng_uniform(rng, 0.1, 5);
+        double t0 = check_rng_uniform(rng, -4, 4), t1 = t0 + check_rng_uniform(rng, 0.01, 7);
+        cb_status st = hyp ? cb_nurbs_curve_hyperbola(C, f.o, f.x, f.y, p1, p2, t0, t1, &err)
+                           : cb_nurbs_curve_parabola(C, f.o, f.x, f.y, p1, t0, t1, &err);
+        CHECK(st == CB_OK, "trial %d: %s [%g, %g]: %s", trial, hyp ? "hyperbola" : "parabola",
+              t0, t1, err.msg);
+        if (st)
+            continue;
+        CHECK(cb_nurbs_curve_validate(C, &err) == CB_OK, "trial %d: %s", trial, err.msg);
+        double a, b;
+        cb_nurbs_curve_domain(C, &a, &b);
+        CHECK(a == t0 && b == t1, "trial %d: domain [%g, %g], want [%g, %g]", trial, a, b, t0, t1);
+        double prev = -HUGE_VAL, scale = 10 + (hyp ? p1 * cosh(fmax(fabs(t0), fabs(t1))) : p1 * 64);
+        for (int k = 0; k <= 100; k++) {
+            double t = t0 + (t1 - t0) * k / 100, p[3], l[3];
+            cb_nurbs_curve_eval(p, C, t);
+            cb_frame_to_local(l, &f, p);
+            double resid, along;
+            if (hyp) {
+                double X = l[0] * l[0] / (p1 * p1), Y = l[1] * l[1] / (p2 * p2);
+                resid = fabs(X - Y - 1) / (X + Y) + (l[0] > 0 ? 0 : 1);
+                along = asinh(l[1] / p2);
+            } else {
+                resid = fabs(l[1] * l[1] - 4 * p1 * l[0]) / (p1 * p1 + l[1] * l[1]);
+                along = l[1] / (2 * p1);
+                /* polynomial: the parameter is t itself */
+                resid = fmax(resid, fabs(along - t) / (1 + fabs(t)));
+            }
+            resid = fmax(resid, fabs(l[2]) / scale);
+            worst = fmax(worst, resid);
+            CHECK(resid < 1e-12 && along > prev - 1e-12, "trial %d t %g: off the %s by %g", trial,
+                  t, hyp ? "hyperbola" : "parabola", resid);
+            prev = along;
+        }
+        for (int k = C->deg; k <= C->n; k++) {
+            double t = C->knots[k], p[3], l[3];
+            cb_nurbs_curve_eval(p, C, t);
+            cb_frame_to_local(l, &f, p);
+            double want = hyp ? p2 * sinh(t) : 2 * p1 * t;
+            CHECK(fabs(l[1] - want) <= 1e-12 * (1 + fabs(want)), "trial %d: at knot %g y %g, want %g",
+                  trial, t, l[1], want);
+        }
+    }
+    double o[3] = {0, 0, 0}, x[3] = {1, 0, 0}, y[3] = {0, 1, 0};
+    CHECK(cb_nurbs_curve_parabola(C, o, x, y, 0, 0, 1, &err) == CB_ERR_INVALID,
+          "parabola of focal distance 0 accepted");
+    CHECK(cb_nurbs_curve_hyperbola(C, o, x, y, 1, 1, 1, 1, &err) == CB_ERR_INVALID,
+          "empty hyperbola range accepted");
+    CHECK(cb_nurbs_curve_hyperbola(C, o, x, x, 1, 1, 0, 1, &err) == CB_ERR_INVALID,
+          "hyperbola with parallel axes accepted");
+    printf("parabola and hyperbola arcs: largest residual %.2g\n", worst);
+    cb_nurbs_curve_clear(C);
+}
+
 int main(void)
 {
     check_rng rng = {20240611};
@@ -962,6 +1030,7 @@ int main(void)
     test_derivs(&rng);
     test_to_nurbs(&rng);
     test_arcs(&rng);
+    test_open_conics(&rng);
     test_bad_input();
     printf("max: frame %.2g, eval F %.2g (world: %.2g of terms, %.2g scaled), nurbs F %.2g, nurbs "
            "distance %.2g, corners %.2g, "

@@ -119,9 +119,13 @@ static void check_shape(int shape, int as_nurbs, const cb_frame *f, int pose)
     CHECK(r.max_edge_surface < 1e-12 * 64, "%s nurbs %d: edge-surface deviation %g", name, as_nurbs,
           r.max_edge_surface);
     cb_topo_report_clear(&r);
-    /* The same body with its faces turned inward must fail the orientation check. */
-    for (int k = 0; k < b->n_faces; k++)
-        b->faces[k].same_sense = !b->faces[k].same_sense;
+    /* The same body turned inside out (each face's sense and the direction of its loops
+     * reversed, so that the loops still run round the same region) must fail the
+     * orientation check. */
+    for (int k = 0; k < b->n_shells; k++)
+        cb_topo_shell_reverse(b, k);
+    st = cb_topo_body_index(b, &err);
+    CHECK(st == CB_OK, "%s: index after reversal: %s", name, err.msg);
     cb_topo_report_init(&r);
     cb_topo_validate(&r, b, 0, 9, &err);
     CHECK(r.n >= 1 && strstr(r.items[0], "inward"), "%s flipped: %d problems", name, r.n);

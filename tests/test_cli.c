@@ -231,6 +231,22 @@ static void test_info_mass(const char *sh)
               "centimetre cross:\n%s", cli_out);
     }
     free(cm);
+    /* A sheet beside the solid (a surface model's open shell of one of its faces): the volume
+     * is the solid's, the area adds the sheet's. */
+    char *sheet = replaced(text, "ENDSEC;\nEND-ISO-10303-21;",
+                           "#900001 = OPEN_SHELL('',(#17));\n"
+                           "#900002 = SHELL_BASED_SURFACE_MODEL('',(#900001));\n"
+                           "ENDSEC;\nEND-ISO-10303-21;");
+    if (sheet) {
+        write_file(path, sheet, strlen(sheet));
+        snprintf(args, sizeof args, "info %s --json", path);
+        cli_expect(args, 0, "\"mass_error\": null}");
+        double sv = json_number("volume"), sa = json_number("area");
+        CHECK(fabs(sv - 95097.33) < 0.01 && sa > 14307.08 && sa < 2 * 14307.07,
+              "cross with a sheet: volume %.10g (95097.33), area %.10g (above 14307.07)", sv, sa);
+        snprintf(args, sizeof args, "info %s", path);
+    }
+    free(sheet);
     /* An open shell of a surface model: valid, but it bounds no volume. */
     char *sbsm = replaced(text, "#15 = MANIFOLD_SOLID_BREP('',#16);",
                           "#15 = SHELL_BASED_SURFACE_MODEL('',(#16));");

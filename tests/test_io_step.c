@@ -535,6 +535,33 @@ static void test_cubes(void)
     }
     free(text);
 
+    /* The same void written inside out (ORIENTED_CLOSED_SHELL .T.: its faces pointing out of
+     * the cavity, as some writers do): the reader turns it into its cavity by the sign of its
+     * enclosed volume, and likewise an outer shell written inward. */
+    for (int outer = 0; outer < 2; outer++) {
+        text = cube_file(&voids);
+        char *o = strstr(text, "ORIENTED_CLOSED_SHELL"), *fl = o ? strstr(o, ".F.") : NULL;
+        if (fl)
+            fl[1] = 'T';
+        if (outer) /* every face of both cubes reversed */
+            for (char *p = text; (p = strstr(p, "ADVANCED_FACE(")) && p < o; p++) {
+                char *sense = strstr(p, ".T.);");
+                if (sense && sense < o)
+                    sense[1] = 'F';
+            }
+        st = read_text(&b, text, strlen(text), &err);
+        CHECK(st == CB_OK && fl, "cube with an inside-out %s: %s", outer ? "solid" : "void",
+              err.msg);
+        if (!st) {
+            validates(b, outer ? "cube written inward" : "void written inside out");
+            CHECK(!b->faces[6].same_sense && b->faces[0].same_sense,
+                  "inside-out %s: senses %d %d", outer ? "solid" : "void", b->faces[0].same_sense,
+                  b->faces[6].same_sense);
+            cb_topo_body_free(b);
+        }
+        free(text);
+    }
+
     cube_opts placed = {.assembly = 1, .offset = {10, 20, 30}};
     text = cube_file(&placed);
     st = read_text(&b, text, strlen(text), &err);
@@ -606,6 +633,145 @@ static void expect_bad_len(const char *name, const char *text, size_t len, cb_st
 static void expect_bad(const char *name, const char *text, cb_status want, const char *const *words)
 {
     expect_bad_len(name, text, strlen(text), want, words);
+}
+
+/* Reads text as cube.stp; validates it. NULL (and a failed check) when it does not load. */
+static cb_topo_body *read_valid(const char *text, const char *what)
+{
+    cb_topo_body *b;
+    cb_error err;
+    cb_status st = text ? read_text(&b, text, strlen(text), &err) : CB_ERR_INVALID;
+    CHECK(st == CB_OK, "%s: %s", what, text ? err.msg : "no text");
+    if (st)
+        return NULL;
+    validates(b, what);
+    return b;
+}
+
+/* Forms real files use: keywords and enumerations in any case, a measure with unit as a
+ * complex instance, quotes in strings, B-splines whose knots the form implies, a
+ * TRIMMED_CURVE running against its basis. */
+static void test_forms(void)
+{
+    cube_opts plain = {0}, spline = {.bspline_edge = 1};
+    char *text = cube_file(&plain), *t1, *t2, *t3, *t4;
+    cb_topo_body *b;
+
+    t1 = replaced(text, "HEADER;", "Header;");
+    t2 = t1 ? replaced(t1, "ENDSEC;", "EndSec;") : NULL;
+    t3 = t2 ? replaced(t2, "DATA;", "data;") : NULL;
+    t4 = t3 ? replaced(t3, "MANIFOLD_SOLID_BREP", "Manifold_Solid_Brep") : NULL;
+    free(t1);
+    free(t2);
+    free(t3);
+    t1 = t4 ? replaced(t4, "SI_UNIT(.MILLI.,.METRE.)", "si_unit(.centi.,.Metre.)") : NULL;
+    if ((b = read_valid(t1, "keywords in lower and mixed case"))) {
+        CHECK(b->n_solids == 1 && b->length_unit_mm == 10, "mixed case: %d solids, unit %g mm",
+              b->n_solids, b->length_unit_mm);
+        cb_topo_body_free(b);
+    }
+    free(t1);
+    free(t4);
+
+    /* (LENGTH_MEASURE_WITH_UNIT() MEASURE_WITH_UNIT(value, unit)
+     * UNCERTAINTY_MEASURE_WITH_UNIT(name, description)): 1e-7, not the default 1e-6. */
+    t1 = replaced(text, "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07),",
+                  "(LENGTH_MEASURE_WITH_UNIT() MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07),");
+    t2 = t1 ? replaced(t1, ",'distance_accuracy_value','');",
+                       ") UNCERTAINTY_MEASURE_WITH_UNIT('distance_accuracy_value',''));")
+            : NULL;
+    if ((b = read_valid(t2, "complex uncertainty measure"))) {
+        CHECK(fabs(b->tol - 1e-7) < 1e-20, "complex uncertainty measure: tol %g", b->tol);
+        cb_topo_body_free(b);
+    }
+    free(t1);
+    free(t2);
+
+    /* \S\' is a character, not the end of the string; a lone quote not followed by ',' or ')'
+     * is taken as text. */
+    t1 = replaced(text, "FILE_NAME('cube',", "FILE_NAME('cu\\S\\'be ' n',");
+    if ((b = read_valid(t1, "quotes in a string")))
+        cb_topo_body_free(b);
+    free(t1);
+
+    /* A TRIMMED_CURVE of the first edge's line, against its sense, with the edge's sense
+     * flipped to match: the same edge. Ignoring sense_agreement would turn the edge round. */
+    char from[64], to[64], trim[160];
+    snprintf(from, sizeof from, ",#%d,.T.);", id_line0);
+    snprintf(to, sizeof to, ",#900001,.F.);");
+    snprintf(trim, sizeof trim,
+             "#900001=TRIMMED_CURVE('',#%d,(PARAMETER_VALUE(0.)),(PARAMETER_VALUE(10.)),.F.,"
+             ".PARAMETER.);\nENDSEC;\nEND-ISO",
+             id_line0);
+    t1 = replaced(text, from, to);
+    t2 = t1 ? replaced(t1, "ENDSEC;\nEND-ISO", trim) : NULL;
+    if ((b = read_valid(t2, "edge on a reversed TRIMMED_CURVE")))
+        cb_topo_body_free(b);
+    free(t1);
+    free(t2);
+    free(text);
+
+    /* The B-spline edge (degree 2, 4 points, knots 0 .. 6) in the forms without knots. */
+    text = cube_file(&spline);
+    const char *knots = ".UNSPECIFIED.,.F.,.F.,(1,1,1,1,1,1,1),(0.,1.,2.,3.,4.,5.,6.),.UNSPECIFIED.)";
+    static const struct {
+        const char *name, *to;
+        double lo, hi; /* the domain the form implies */
+    } forms[] = {{"UNIFORM_CURVE", "UNIFORM_CURVE('',2,", 0, 2},
+                 {"QUASI_UNIFORM_CURVE", "QUASI_UNIFORM_CURVE('',2,", 0, 2},
+                 {"BEZIER_CURVE", "BEZIER_CURVE('',3,", 0, 1}};
+    for (size_t k = 0; k < sizeof forms / sizeof *forms; k++) {
+        t1 = replaced(text, "B_SPLINE_CURVE_WITH_KNOTS('',2,", forms[k].to);
+        t2 = t1 ? replaced(t1, knots, ".UNSPECIFIED.,.F.,.F.)") : NULL;
+        if ((b = read_valid(t2, forms[k].name))) {
+            int found = 0;
+            for (int c = 0; c < b->n_curves; c++)
+                if (b->curves[c].kind == CB_CURVE_NURBS) {
+                    double lo, hi;
+                    cb_nurbs_curve_domain(b->curves[c].nurbs, &lo, &hi);
+                    CHECK(lo == forms[k].lo && hi == forms[k].hi, "%s: domain [%g, %g]",
+                          forms[k].name, lo, hi);
+                    found = 1;
+                }
+            CHECK(found, "%s: no B-spline edge", forms[k].name);
+            cb_topo_body_free(b);
+        }
+        free(t1);
+        free(t2);
+    }
+    /* The complex instance of the quasi-uniform form. */
+    char *at = strstr(text, "B_SPLINE_CURVE_WITH_KNOTS('',2,(");
+    if (at) {
+        char pts[96];
+        const char *p0 = at + strlen("B_SPLINE_CURVE_WITH_KNOTS('',2,");
+        size_t n = (size_t)(strchr(p0, ')') - p0 + 1);
+        snprintf(pts, sizeof pts, "%.*s", (int)n, p0);
+        char head[512], whole[512];
+        snprintf(head, sizeof head, "B_SPLINE_CURVE_WITH_KNOTS('',2,%s,%s", pts, knots);
+        snprintf(whole, sizeof whole,
+                 "(BOUNDED_CURVE() B_SPLINE_CURVE(2,%s,.UNSPECIFIED.,.F.,.F.) CURVE() "
+                 "GEOMETRIC_REPRESENTATION_ITEM() QUASI_UNIFORM_CURVE() "
+                 "RATIONAL_B_SPLINE_CURVE((1.,1.,1.,1.)) REPRESENTATION_ITEM(''))",
+                 pts);
+        t1 = replaced(text, head, whole);
+        if ((b = read_valid(t1, "complex QUASI_UNIFORM_CURVE")))
+            cb_topo_body_free(b);
+        free(t1);
+    }
+    /* A piecewise Bezier form whose point count does not fit its degree is refused, naming
+     * the entity. */
+    t1 = replaced(text, "B_SPLINE_CURVE_WITH_KNOTS('',2,", "BEZIER_CURVE('',2,");
+    t2 = t1 ? replaced(t1, knots, ".UNSPECIFIED.,.F.,.F.)") : NULL;
+    cb_error err;
+    cb_status st = t2 ? read_text(&b, t2, strlen(t2), &err) : CB_OK;
+    CHECK(st == CB_ERR_INVALID && strstr(err.msg, "BEZIER_CURVE") &&
+              strstr(err.msg, "not a multiple of 2"),
+          "Bezier form of 4 points of degree 2: %d %s", st, st ? err.msg : "");
+    if (!st)
+        cb_topo_body_free(b);
+    free(t1);
+    free(t2);
+    free(text);
 }
 
 /* The cube with the line of its first edge moved by dz (its vertices stay): the edge leaves
@@ -996,6 +1162,7 @@ int main(void)
     test_clamped_pcurves();
     test_cubes();
     test_edge_tolerances();
+    test_forms();
     test_bad_files();
     printf("io_step: %.2f s\n", now() - t0);
     return check_report("io_step");
