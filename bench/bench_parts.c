@@ -19,7 +19,7 @@
  * whatever other parts are run): a rotation about the part's centroid by an angle uniform in
  * [--angle LO HI] degrees (default 5 to 60) about the axis of a uniform random unit quaternion,
  * then a translation by a fraction uniform in [--shift LO HI] (default 0.1 to 0.4) of the part's
- * edge-box diagonal along a uniform random direction. A motion is drawn again (up to 8 times)
+ * edge-box diagonal along a uniform random direction. A motion is drawn again (up to 32 times)
  * while a coarse estimate (40 x 40 lines) finds the copy overlapping the part by less than 2% of
  * its volume: thin parts shifted along their normal would give no test. The moved copy B is
  * written by Colibri's STEP writer (cb_step_write) and read back, so that both tools get the
@@ -332,7 +332,7 @@ static cb_topo_body *read_moved(const char *path, const cb_xform *x, cb_error *e
  * (a thin part shifted along its normal) would give an empty intersection, no test. */
 #define PARTS_MIN_OVERLAP 0.02
 /* Draws per case before giving up on an overlapping one, and the coarse estimate's grid. */
-#define PARTS_MAX_ATTEMPTS 8
+#define PARTS_MAX_ATTEMPTS 32
 #define PARTS_COARSE_GRID 40
 /* Frames an estimate is tried in before it is given up. */
 #define PARTS_FRAMES 4
