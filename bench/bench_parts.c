@@ -429,7 +429,7 @@ static void case_make(parts_case *pc, const part *p, int part_index, int draw,
     pc->vb = back.volume;
     /* The fine estimate takes B as the tools get it: the file read back. */
     if (estimate_framed(&e, p->path, pc->b_path, NULL, co->grid, co->threads, &s, &err)) {
-        snprintf(pc->error, sizeof pc->error, "overlap estimate: %.400s", err.msg);
+        snprintf(pc->error, sizeof pc->error, "%.400s", err.msg); /* "overlap estimate: ..." */
     } else {
         pc->vi = e.volume_ab;
         pc->sigma = e.sigma_ab;
