@@ -203,12 +203,13 @@ static inline void corpus_outcome_init(corpus_outcome *o)
     o->volume = o->time_s = o->wall_s = NAN;
 }
 
-/* The verdict of o on case c, operation op; why gets a one-line reason (the tool's first line
- * when refused). */
-static inline corpus_verdict corpus_score(const corpus_outcome *o, const corpus_case *c, int op,
-                                          char *why, size_t n)
+/* The verdict of o against a true volume with its error bar; touching: whether the exact
+ * result may touch itself. why gets a one-line reason (the tool's first line when refused).
+ * The one rule behind corpus_score, for runners whose truth comes from elsewhere (bench_parts:
+ * an estimate with its own bar). */
+static inline corpus_verdict corpus_score_truth(const corpus_outcome *o, double truth, double bar,
+                                                int touching, char *why, size_t n)
 {
-    double truth = corpus_truth(c, op), bar = corpus_bar(c, op);
     if (o->timed_out) {
         snprintf(why, n, "timed out");
         return CORPUS_TIMEOUT;
@@ -235,7 +236,7 @@ static inline corpus_verdict corpus_score(const corpus_outcome *o, const corpus_
             snprintf(why, n, "reported success, but its mesh crosses itself");
             return CORPUS_WRONG;
         }
-        if (!o->clean && !c->touching) {
+        if (!o->clean && !touching) {
             snprintf(why, n, "reported success, but its mesh touches itself where the exact "
                              "result is a manifold solid");
             return CORPUS_WRONG;
@@ -248,6 +249,13 @@ static inline corpus_verdict corpus_score(const corpus_outcome *o, const corpus_
     }
     why[0] = 0;
     return CORPUS_PASS;
+}
+
+/* The verdict of o on case c, operation op (truth and bar as above). */
+static inline corpus_verdict corpus_score(const corpus_outcome *o, const corpus_case *c, int op,
+                                          char *why, size_t n)
+{
+    return corpus_score_truth(o, corpus_truth(c, op), corpus_bar(c, op), c->touching, why, n);
 }
 
 /* A reason with its numbers replaced by '#' and the case's file names by A.step / B.step, so
