@@ -37,11 +37,7 @@
 
 /* ---------------------------------------------------------------- results and tables ------- */
 
-typedef struct {
-    corpus_outcome o;
-    corpus_verdict v;
-    char why[512];
-} side;
+typedef corpus_side side;
 
 typedef struct {
     int case_index, op;
@@ -160,28 +156,6 @@ static void print_reasons(const run_result *r, int nr, const corpus_case *cases,
     for (int j = 0; j < n; j++)
         printf("%5d  %s  [%s]\n", rc[j].count, rc[j].reason, rc[j].example);
     free(rc);
-}
-
-static void json_side(FILE *f, const char *key, const side *s)
-{
-    fprintf(f, "\"%s\": {\"verdict\": \"%s\", \"reason\": ", key, corpus_verdict_names[s->v]);
-    cb_json_string(f, s->why);
-    fputs(", \"volume\": ", f);
-    if (isfinite(s->o.volume))
-        fprintf(f, "%.17g", s->o.volume);
-    else
-        fputs("null", f);
-    fputs(", \"time_s\": ", f);
-    if (isfinite(s->o.time_s))
-        fprintf(f, "%.4f", s->o.time_s);
-    else
-        fputs("null", f);
-    fputs(", \"wall_s\": ", f);
-    if (isfinite(s->o.wall_s))
-        fprintf(f, "%.4f", s->o.wall_s);
-    else
-        fputs("null", f);
-    fputs("}", f);
 }
 
 static int usage(void)
@@ -367,10 +341,10 @@ int main(int argc, char **argv)
                         k ? "," : "", c->id, c->config, c->pose, c->faces,
                         corpus_op_names[r[k].op], c->touching ? "true" : "false",
                         corpus_truth(c, r[k].op), corpus_bar(c, r[k].op));
-                json_side(f, "colibri", &r[k].c);
+                corpus_json_side(f, "colibri", &r[k].c);
                 if (occt) {
                     fputs(", ", f);
-                    json_side(f, "occt", &r[k].o);
+                    corpus_json_side(f, "occt", &r[k].o);
                 }
                 fputs("}", f);
             }

@@ -101,11 +101,7 @@ typedef struct {
     char error[512];           /* why the case could not be made ("" when it was) */
 } parts_case;
 
-typedef struct {
-    corpus_outcome o;
-    corpus_verdict v;
-    char why[512];
-} side;
+typedef corpus_side side;
 
 typedef struct {
     int case_index, op;
@@ -569,28 +565,6 @@ static void print_reasons(const run_result *r, int nr, const parts_case *cases, 
     free(rc);
 }
 
-static void json_side(FILE *f, const char *key, const side *s)
-{
-    fprintf(f, "\"%s\": {\"verdict\": \"%s\", \"reason\": ", key, corpus_verdict_names[s->v]);
-    cb_json_string(f, s->why);
-    fputs(", \"volume\": ", f);
-    if (isfinite(s->o.volume))
-        fprintf(f, "%.17g", s->o.volume);
-    else
-        fputs("null", f);
-    fputs(", \"time_s\": ", f);
-    if (isfinite(s->o.time_s))
-        fprintf(f, "%.4f", s->o.time_s);
-    else
-        fputs("null", f);
-    fputs(", \"wall_s\": ", f);
-    if (isfinite(s->o.wall_s))
-        fprintf(f, "%.4f", s->o.wall_s);
-    else
-        fputs("null", f);
-    fputs("}", f);
-}
-
 /* ---------------------------------------------------------------- main --------------------- */
 
 static int usage(void)
@@ -882,10 +856,10 @@ int main(int argc, char **argv)
                         pc->draw, pc->angle_deg, pc->axis[0], pc->axis[1], pc->axis[2],
                         pc->shift[0], pc->shift[1], pc->shift[2], corpus_op_names[r[k].op], pc->va,
                         pc->vb, pc->vi, pc->sigma, r[k].truth, r[k].bar);
-                json_side(f, "colibri", &r[k].c);
+                corpus_json_side(f, "colibri", &r[k].c);
                 if (occt) {
                     fputs(", ", f);
-                    json_side(f, "occt", &r[k].o);
+                    corpus_json_side(f, "occt", &r[k].o);
                 }
                 fputs("}", f);
             }

@@ -237,6 +237,17 @@ static void xform_inverse(cb_xform *out, const cb_xform *x)
     *out = r;
 }
 
+/* The placement that takes frame fr[0] onto frame fr[1] (child coordinates to parent
+ * coordinates, as both an ITEM_DEFINED_TRANSFORMATION and a MAPPED_ITEM give it). */
+static void frames_xform(cb_xform *x, const cb_frame fr[2])
+{
+    cb_xform f1, f2;
+    frame_xform(&f1, &fr[0]);
+    frame_xform(&f2, &fr[1]);
+    xform_inverse(&f1, &f1);
+    cb_xform_compose(x, &f2, &f1);
+}
+
 /* ITEM_DEFINED_TRANSFORMATION(name, description, item_1, item_2): the motion taking the
  * placement item_1 (in the child) onto item_2 (in the parent). */
 static cb_status item_transform(step_file *f, const step_rec *t, cb_xform *x)
@@ -258,11 +269,7 @@ static cb_status item_transform(step_file *f, const step_rec *t, cb_xform *x)
         if (st)
             return st;
     }
-    cb_xform f1, f2;
-    frame_xform(&f1, &fr[0]);
-    frame_xform(&f2, &fr[1]);
-    xform_inverse(&f1, &f1);
-    cb_xform_compose(x, &f2, &f1);
+    frames_xform(x, fr);
     return CB_OK;
 }
 
@@ -329,11 +336,7 @@ static cb_status mapped_item(step_file *f, const step_rec *m, long *rep, cb_xfor
     cb_frame fr[2];
     if ((st = step_frame(f, origin, 3, &fr[0])) || (st = step_frame(f, target, 3, &fr[1])))
         return st;
-    cb_xform f1, f2;
-    frame_xform(&f1, &fr[0]);
-    frame_xform(&f2, &fr[1]);
-    xform_inverse(&f1, &f1);
-    cb_xform_compose(x, &f2, &f1);
+    frames_xform(x, fr);
     *rep = mapped->id;
     return CB_OK;
 }

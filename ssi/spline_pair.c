@@ -25,9 +25,9 @@
 #define TINY_TOL 0.125
 #define STOP_TOL 8.0
 #define WT_MAX_TOL 1000.0
-/* The first run measures its tangent clusters each time this many sub-pairs have joined them
- * (a band's sub-pairs come along its curve in the depth-first order, so a band passes
- * WT_MAX_TOL tol after a few hundred). */
+/* Runs other than the band run measure their tangent clusters each time this many sub-pairs
+ * have joined them (a sort of them each time; a contact band along a bicubic tangential loop
+ * passes WT_MAX_TOL tol after about 7000, a node's region stays below it). */
 #define TINY_CHECK 256
 
 /* ---------------------------------------------------------------- sub-patches -------------- */

@@ -428,6 +428,34 @@ static void job_orientation(pair_job *J, const pair_ctx *c)
     J->cdist = best;
 }
 
+/* J's Bezier patches P and Q run again with so: the new pieces, regions and figures are kept
+ * when they leave nothing uncertified, otherwise the previous ones stand (their refusal with
+ * them); either way both runs' sub-pairs count as examined. *boxes: the new run's
+ * boundary-root boxes. */
+static void spline_rerun(pair_job *J, const pair_ctx *c, const _cb_ssi_bez *P,
+                         const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *so, long *boxes)
+{
+    _cb_ssi_piece_set prev = J->pieces;
+    _cb_ssi_tiny_set prev_tiny = J->tiny;
+    _cb_ssi_spline_stats prev_st = J->sst;
+    _cb_ssi_piece_set_init(&J->pieces);
+    _cb_ssi_tiny_set_init(&J->tiny);
+    _cb_ssi_spline_pair(&J->pieces, &J->sst, P, Q, so, &J->tiny, (int)(J - c->job));
+    long both = prev_st.subpairs + J->sst.subpairs;
+    *boxes = J->sst.edge_boxes;
+    if (J->sst.uncertified > 0 && !J->sst.nomem) {
+        _cb_ssi_piece_set_clear(&J->pieces);
+        _cb_ssi_tiny_set_clear(&J->tiny);
+        J->pieces = prev;
+        J->tiny = prev_tiny;
+        J->sst = prev_st;
+    } else {
+        _cb_ssi_piece_set_clear(&prev);
+        _cb_ssi_tiny_set_clear(&prev_tiny);
+    }
+    J->sst.subpairs = both;
+}
+
 /* The subdivision route for one patch pair (ssi/spline.h), after the coincidence test. */
 static void spline_run(pair_job *J, const pair_ctx *c)
 {
@@ -474,27 +502,10 @@ static void spline_run(pair_job *J, const pair_ctx *c)
                 s->march_failed > 0) {
         /* Kept only when it leaves nothing uncertified: otherwise the first run's finer
          * pieces and regions stand (its refusal with them). */
-        _cb_ssi_piece_set first = J->pieces;
-        _cb_ssi_tiny_set first_tiny = J->tiny;
-        _cb_ssi_spline_stats first_st = J->sst;
-        _cb_ssi_piece_set_init(&J->pieces);
-        _cb_ssi_tiny_set_init(&J->tiny);
+        long first_boxes = J->sst.edge_boxes, band_boxes = 0;
         so.band = 1;
         so.max_subpairs = so.max_edge_boxes = c->opts->spline_band_subpairs;
-        _cb_ssi_spline_pair(&J->pieces, &J->sst, &P, &Q, &so, &J->tiny, (int)(J - c->job));
-        /* Either way, both runs' sub-pairs count as examined. */
-        long both = first_st.subpairs + J->sst.subpairs;
-        if (J->sst.uncertified > 0 && !J->sst.nomem) {
-            _cb_ssi_piece_set_clear(&J->pieces);
-            _cb_ssi_tiny_set_clear(&J->tiny);
-            J->pieces = first;
-            J->tiny = first_tiny;
-            J->sst = first_st;
-        } else {
-            _cb_ssi_piece_set_clear(&first);
-            _cb_ssi_tiny_set_clear(&first_tiny);
-        }
-        J->sst.subpairs = both;
+        spline_rerun(J, c, &P, &Q, &so, &band_boxes);
         /* The band run kept, but a cluster of it wider than the near-node bound holds a
          * branch end: a near-tangent node or cusp seen coarsely, which the tangent-region rule
          * refuses. The fine run again, with the larger budget these need, kept when it leaves
@@ -504,33 +515,16 @@ static void spline_run(pair_job *J, const pair_ctx *c)
                        : 0;
         if (wide < 0)
             J->sst.nomem = 1;
-        if (wide > 0 && NODE_EDGE_BOXES * c->opts->spline_node_subpairs >
-                            2 * (first_st.edge_boxes + J->sst.edge_boxes)) {
-            _cb_ssi_piece_set band = J->pieces;
-            _cb_ssi_tiny_set band_tiny = J->tiny;
-            _cb_ssi_spline_stats band_st = J->sst;
-            _cb_ssi_piece_set_init(&J->pieces);
-            _cb_ssi_tiny_set_init(&J->tiny);
+        long node_boxes = NODE_EDGE_BOXES * c->opts->spline_node_subpairs;
+        if (wide > 0 && node_boxes > 2 * (first_boxes + band_boxes)) {
             so.band = 0;
             so.max_subpairs = c->opts->spline_node_subpairs;
             /* The pair's boundary-root boxes over all three runs are bounded: what the first
              * two used is not given again (a node whose first run already took millions is
              * left refused rather than run on for minutes). */
-            so.max_edge_boxes = NODE_EDGE_BOXES * c->opts->spline_node_subpairs -
-                                first_st.edge_boxes - band_st.edge_boxes;
-            _cb_ssi_spline_pair(&J->pieces, &J->sst, &P, &Q, &so, &J->tiny, (int)(J - c->job));
-            long all = both + J->sst.subpairs;
-            if (J->sst.uncertified > 0 && !J->sst.nomem) {
-                _cb_ssi_piece_set_clear(&J->pieces);
-                _cb_ssi_tiny_set_clear(&J->tiny);
-                J->pieces = band;
-                J->tiny = band_tiny;
-                J->sst = band_st;
-            } else {
-                _cb_ssi_piece_set_clear(&band);
-                _cb_ssi_tiny_set_clear(&band_tiny);
-            }
-            J->sst.subpairs = all;
+            so.max_edge_boxes = node_boxes - first_boxes - band_boxes;
+            long third_boxes;
+            spline_rerun(J, c, &P, &Q, &so, &third_boxes);
         }
     }
     if (s->nomem) {

@@ -27,6 +27,7 @@
 #include <unistd.h>
 
 #include "bench/corpus/corpus.h"
+#include "io/json.h"
 
 extern char **environ;
 
@@ -219,6 +220,37 @@ static inline void run_occt(corpus_outcome *o, const char *pa, const char *pb, i
     o->reported_ok = 1;
     o->valid = valid;
     o->volume = v;
+}
+
+/* One tool's run of one case: its outcome, verdict and the reason. */
+typedef struct {
+    corpus_outcome o;
+    corpus_verdict v;
+    char why[512];
+} corpus_side;
+
+/* One side as a JSON object under key: verdict, reason, volume, time_s, wall_s (null where
+ * not known). */
+static inline void corpus_json_side(FILE *f, const char *key, const corpus_side *s)
+{
+    fprintf(f, "\"%s\": {\"verdict\": \"%s\", \"reason\": ", key, corpus_verdict_names[s->v]);
+    cb_json_string(f, s->why);
+    fputs(", \"volume\": ", f);
+    if (isfinite(s->o.volume))
+        fprintf(f, "%.17g", s->o.volume);
+    else
+        fputs("null", f);
+    fputs(", \"time_s\": ", f);
+    if (isfinite(s->o.time_s))
+        fprintf(f, "%.4f", s->o.time_s);
+    else
+        fputs("null", f);
+    fputs(", \"wall_s\": ", f);
+    if (isfinite(s->o.wall_s))
+        fprintf(f, "%.4f", s->o.wall_s);
+    else
+        fputs("null", f);
+    fputs("}", f);
 }
 
 #endif
