@@ -287,6 +287,18 @@ static void refine_pt(cut_pt *m, const cut_ctx *cx, const double t[3], double re
     }
 }
 
+/* b with every periodic parameter moved by whole periods next to a's, so that the points
+ * between the two are interpolated in one lift: interpolating from 0 to nearly a period
+ * would run across the other side of the surface, where Newton then lands on another sheet
+ * of the curve. */
+static void unwrap_next(cut_pt *b, const cut_ctx *cx, const cut_pt *a)
+{
+    for (int s = 0; s < 2; s++)
+        for (int d = 0; d < 2; d++)
+            if (cx->P[s][d] > 0)
+                b->uv[s][d] += cx->P[s][d] * nearbyint((a->uv[s][d] - b->uv[s][d]) / cx->P[s][d]);
+}
+
 /* Bisection on the curve between a (where before(a) holds) and b (where it does not): the
  * midpoints are moved onto the curve (refine_pt) while the step is long enough for the chord
  * to stray, then halved until a thousandth of the tolerance. Returns the last point where
@@ -361,14 +373,8 @@ static int find_cross(const cut_ctx *cx, const cut_pt *a, const cut_pt *b, cut_p
     if (cs < 0)
         return 0;
     double P = cx->P[cs][cd], lo = cx->lo[cs][cd];
-    /* b unwrapped next to a in every periodic parameter, so that the points between are
-     * interpolated in one lift (both faces may cross a seam on the same step) */
-    cut_pt bu = *b;
-    for (int s = 0; s < 2; s++)
-        for (int d = 0; d < 2; d++)
-            if (cx->P[s][d] > 0)
-                bu.uv[s][d] += cx->P[s][d] *
-                               nearbyint((a->uv[s][d] - bu.uv[s][d]) / cx->P[s][d]);
+    cut_pt bu = *b; /* both faces may cross a seam on the same step */
+    unwrap_next(&bu, cx, a);
     int up = bu.uv[cs][cd] > a->uv[cs][cd]; /* the step runs up across the upper end */
     cross_arg ca = {cs, cd, up ? lo + P : lo, up};
     bisect_on_curve(before, cx, a, &bu, short_of_end, &ca);
@@ -415,8 +421,9 @@ static int pole_split(const cut_ctx *cx, const cut_run *r, int i, cut_pt *before
 cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cut_ctx *cx,
                              const cb_ssi_curve *c, int curve, cb_error *err)
 {
-    if (!closed && !length_over(r, cx->min_len))
-        return CB_OK; /* a curve grazing a corner of a face: no piece to split by */
+    if (!closed && !length_over(r, CB_BOOL_WELD * cx->min_len))
+        return CB_OK; /* a curve grazing a corner of a face: its piece would weld into a
+                         point, leaving a sliver on one face and none on the other */
     for (int i = 0; i < r->n; i++)
         for (int s = 0; s < 2; s++)
             for (int d = 0; d < 2; d++)
@@ -526,7 +533,84 @@ static int inside_pred(const cut_ctx *cx, const cut_pt *p, const void *arg)
 static void exit_point(cut_pt *out, const cut_ctx *cx, const cut_pt *a, const cut_pt *b,
                        double cls_tol)
 {
-    bisect_on_curve(out, cx, a, b, inside_pred, &cls_tol);
+    cut_pt bu = *b;
+    unwrap_next(&bu, cx, a);
+    bisect_on_curve(out, cx, a, &bu, inside_pred, &cls_tol);
+}
+
+static int cmp_double(const void *x, const void *y)
+{
+    double a = *(const double *)x, b = *(const double *)y;
+    return (a > b) - (a < b);
+}
+
+/* Classifying the curve's points alone misses a stretch inside both faces that lies between
+ * two points each outside one of them (a line from the SSI's closed forms has points as far
+ * apart as it likes: one outside A's hole, the next beyond B's rim), and a dip out of a face
+ * between two inside points. So where a step's chord in either face's (u, v) crosses that
+ * face's loops (cb_face_chord_crossings), a point is added (moved onto the curve: refine_pt)
+ * between every two successive crossings, which the walk in cb_bool_cuts_make then
+ * classifies, the exits being bisected as usual. (The chord in (u, v) is not the curve's
+ * image: a stretch narrower than that chord error may still be missed.) *pts (n points, replaced) keeps its first and last points. Returns -1
+ * when out of memory. */
+static int add_crossing_points(cut_pt **pts, int *n, const cut_ctx *cx)
+{
+    cut_pt *p = *pts, *out = NULL;
+    int m = 0, cap = 0, nt = 0, tcap = 0, fail = 0;
+    double *t = NULL;
+    for (int i = 0; i < *n && !fail; i++) {
+        int extra = 0;
+        cut_pt bu;
+        if (i + 1 < *n) {
+            bu = p[i + 1];
+            unwrap_next(&bu, cx, p + i);
+            nt = 0;
+            for (int s = 0; s < 2 && !fail; s++)
+                fail = cb_face_chord_crossings(&t, &nt, &tcap, cx->f[s], p[i].uv[s], bu.uv[s])
+                           ? -1
+                           : 0;
+            if (nt >= 2) {
+                qsort(t, (size_t)nt, sizeof *t, cmp_double);
+                extra = nt - 1;
+            }
+        }
+        if (m + 1 + extra > cap) {
+            int c = 2 * (m + 1 + extra) + 16;
+            cut_pt *q = realloc(out, (size_t)c * sizeof *q);
+            if (!q) {
+                fail = -1;
+                break;
+            }
+            out = q;
+            cap = c;
+        }
+        out[m++] = p[i];
+        if (!extra)
+            continue;
+        double ch[3];
+        for (int k = 0; k < 3; k++)
+            ch[k] = bu.xyz[k] - p[i].xyz[k];
+        double L = norm3(ch);
+        for (int k = 0; k < 3 && L > 0; k++)
+            ch[k] /= L;
+        for (int j = 0; j + 1 < nt; j++) {
+            if (!(t[j + 1] - t[j] > 1e-9))
+                continue; /* one crossing counted twice (a polygon vertex) */
+            lerp_pt(out + m, p + i, &bu, 0.5 * (t[j] + t[j + 1]));
+            if (L > 1e-2 * cx->min_len)
+                refine_pt(out + m, cx, ch, L);
+            m++;
+        }
+    }
+    free(t);
+    if (fail) {
+        free(out);
+        return -1;
+    }
+    free(p);
+    *pts = out;
+    *n = m;
+    return 0;
 }
 
 /* Central (one-sided at open ends, wrapping at closed ones) difference at point i of the
@@ -654,11 +738,44 @@ double cb_bool_cut_project(double *pos, const cb_bool_cut *c, const double p[3],
     return sqrt(best);
 }
 
-cb_status cb_bool_cut_curve(cb_topo_curve *out, const cb_bool_cut *c, int side, cb_error *err)
+/* The Bezier control points of segment i of cut c's curve (cb_bool_cut_curve) in 3D (side
+ * -1) or in face side's (u, v): the cubic Hermite arc with the points' tangents, scaled by a
+ * third of the segment's 3D chord. */
+static void seg_ctrl(double P[4][3], const cb_bool_cut *c, int side, int i)
 {
-    int dim = side < 0 ? 3 : 2, m = 3 * (c->n - 1) + 1;
+    int dim = side < 0 ? 3 : 2;
     const double *pts = side < 0 ? c->xyz : c->uv[side];
     const double *tan = side < 0 ? c->dir : c->duv[side];
+    double e[3];
+    for (int j = 0; j < 3; j++)
+        e[j] = c->xyz[3 * (i + 1) + j] - c->xyz[3 * i + j];
+    double L = norm3(e) / 3;
+    memset(P, 0, 4 * sizeof P[0]);
+    for (int j = 0; j < dim; j++) {
+        P[0][j] = pts[dim * i + j];
+        P[1][j] = pts[dim * i + j] + L * tan[dim * i + j];
+        P[2][j] = pts[dim * (i + 1) + j] - L * tan[dim * (i + 1) + j];
+        P[3][j] = pts[dim * (i + 1) + j];
+    }
+}
+
+void cb_bool_cut_point(double *x, const cb_bool_cut *c, int side, double pos)
+{
+    int dim = side < 0 ? 3 : 2;
+    pos = fmin(fmax(pos, 0), c->n - 1);
+    int i = (int)floor(pos);
+    if (i > c->n - 2)
+        i = c->n - 2;
+    double t = pos - i, s = 1 - t, P[4][3];
+    seg_ctrl(P, c, side, i);
+    for (int j = 0; j < dim; j++)
+        x[j] = s * s * s * P[0][j] + 3 * s * s * t * P[1][j] + 3 * s * t * t * P[2][j] +
+               t * t * t * P[3][j];
+}
+
+cb_status cb_bool_cut_curve(cb_topo_curve *out, const cb_bool_cut *c, int side, cb_error *err)
+{
+    int m = 3 * (c->n - 1) + 1;
     double *P = calloc((size_t)m * 3, sizeof(double));
     double *K = malloc((size_t)(m + 4) * sizeof(double));
     if (!P || !K) {
@@ -667,16 +784,9 @@ cb_status cb_bool_cut_curve(cb_topo_curve *out, const cb_bool_cut *c, int side, 
         return cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
     }
     for (int i = 0; i + 1 < c->n; i++) {
-        double e[3];
-        for (int j = 0; j < 3; j++)
-            e[j] = c->xyz[3 * (i + 1) + j] - c->xyz[3 * i + j];
-        double L = norm3(e) / 3;
-        for (int j = 0; j < dim; j++) {
-            P[3 * (3 * i) + j] = pts[dim * i + j];
-            P[3 * (3 * i + 1) + j] = pts[dim * i + j] + L * tan[dim * i + j];
-            P[3 * (3 * i + 2) + j] = pts[dim * (i + 1) + j] - L * tan[dim * (i + 1) + j];
-            P[3 * (3 * i + 3) + j] = pts[dim * (i + 1) + j];
-        }
+        double B[4][3];
+        seg_ctrl(B, c, side, i);
+        memcpy(P + 3 * (3 * i), B, sizeof B);
     }
     /* Knots: 0 four times, every inner position three times, n - 1 four times. */
     int j = 0;
@@ -789,6 +899,13 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
         }
         for (int s = 0; s < 2; s++)
             cb_topo_settle_poles(pts[0].uv[s], sizeof *pts, n, &cx.f[s]->inv);
+        char *in2 = NULL;
+        if (add_crossing_points(&pts, &n, &cx) || !(in2 = realloc(in, (size_t)n))) {
+            free(pts);
+            free(in);
+            return cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
+        }
+        in = in2;
         for (int i = 0; i < n; i++) {
             in[i] = (char)inside_both(&cx, pts + i, cls_tol);
             n_in += in[i];

@@ -12,6 +12,12 @@
 /* Samples per edge used to bound an analytic face's parameters. */
 #define EDGE_SAMPLES 17
 
+/* An angle difference brought into [-pi, pi]. */
+static double turn_diff(double x)
+{
+    return x - 2 * CB_SSI_PI * nearbyint(x / (2 * CB_SSI_PI));
+}
+
 /* The face's surface as an SSI input; an analytic face is bounded by the parameter box of its
  * edges (an angle by the shortest arc holding its samples; a seam, or a span of a whole turn
  * or more, makes it the full turn).
@@ -26,7 +32,7 @@ static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
     if (ts->kind != CB_SURFACE_ANALYTIC)
         return 0;
     const cb_analytic_surface *a = &ts->analytic;
-    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
+    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL}, grow[2] = {0, 0};
     int have = 0, periodic[2] = {a->kind != CB_ANALYTIC_PLANE, a->kind == CB_ANALYTIC_TORUS};
     const cb_topo_face *f = b->faces + face;
     slong ns = 0, nalloc = 0;
@@ -35,10 +41,28 @@ static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
         const cb_topo_loop *lp = b->loops + l;
         for (int c = lp->first; c < lp->first + lp->count; c++) {
             const cb_topo_edge *e = b->edges + b->coedges[c].edge;
+            /* this edge's extent in the non-periodic directions and its deviation */
+            double prev[2] = {0, 0}, elo[2] = {HUGE_VAL, HUGE_VAL}, ehi[2] = {-HUGE_VAL, -HUGE_VAL};
+            double edev[2] = {0, 0};
             for (int k = 0; k < EDGE_SAMPLES; k++) {
                 double t = e->t0 + (e->t1 - e->t0) * k / (EDGE_SAMPLES - 1), X[3], uv[2];
                 cb_topo_curve_eval(X, b->curves + e->curve, t);
                 _cb_ssi_analytic_invert(uv, a, X);
+                if (k > 0) {
+                    /* how far the edge strays from the chord between two samples, at the
+                     * middle of the step (an arc by its sagitta) */
+                    double tm = t - 0.5 * (e->t1 - e->t0) / (EDGE_SAMPLES - 1), Xm[3], um[2];
+                    cb_topo_curve_eval(Xm, b->curves + e->curve, tm);
+                    _cb_ssi_analytic_invert(um, a, Xm);
+                    for (int d = 0; d < 2; d++) {
+                        double dev = periodic[d]
+                                         ? turn_diff(um[d] - prev[d] - 0.5 * turn_diff(uv[d] - prev[d]))
+                                         : um[d] - 0.5 * (prev[d] + uv[d]);
+                        if (isfinite(dev))
+                            edev[d] = fmax(edev[d], fabs(dev));
+                    }
+                }
+                memcpy(prev, uv, sizeof prev);
                 if (ns == nalloc) {
                     slong na = nalloc ? 2 * nalloc : 64;
                     double *q = realloc(ang, (size_t)(2 * na) * sizeof(double));
@@ -54,13 +78,25 @@ static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
                         ang[2 * ns + d] = fmod(fmod(uv[d], 2 * CB_SSI_PI) + 2 * CB_SSI_PI,
                                                2 * CB_SSI_PI);
                     } else {
-                        lo[d] = fmin(lo[d], uv[d]);
-                        hi[d] = fmax(hi[d], uv[d]);
+                        elo[d] = fmin(elo[d], uv[d]);
+                        ehi[d] = fmax(ehi[d], uv[d]);
                     }
                 }
                 ns++;
                 have = 1;
             }
+            /* The extremes of an arc lie between its samples (a plane face bounded by a
+             * circle of radius r reached r (1 - cos(pi / 16)) beyond them): the edge's
+             * samples' extent is grown by twice its deviation from their chords. Curves are
+             * clipped to this box and trimmed to the face's loops later (boolean/cut.c), so a
+             * box too large costs little. */
+            for (int d = 0; d < 2; d++)
+                if (periodic[d]) {
+                    grow[d] = fmax(grow[d], edev[d]);
+                } else if (elo[d] <= ehi[d]) {
+                    lo[d] = fmin(lo[d], elo[d] - 2 * edev[d]);
+                    hi[d] = fmax(hi[d], ehi[d] + 2 * edev[d]);
+                }
         }
     }
     /* A periodic direction spans the shortest arc holding every sample: the complement of the
@@ -123,6 +159,16 @@ static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
             }
             around[shi[0] - slo[0] > shi[1] - slo[1] ? 1 : 0] = 1;
         }
+    }
+    /* The periodic directions likewise (an arc of an ellipse in angle). */
+    for (int d = 0; d < 2; d++)
+        if (periodic[d]) {
+            lo[d] -= 2 * grow[d];
+            hi[d] += 2 * grow[d];
+        }
+    if (a->kind == CB_ANALYTIC_SPHERE || a->kind == CB_ANALYTIC_ELLIPSOID) {
+        lo[1] = fmax(lo[1], -CB_SSI_PI / 2);
+        hi[1] = fmin(hi[1], CB_SSI_PI / 2);
     }
     double range[4] = {lo[0], hi[0], lo[1], hi[1]};
     for (int d = 0; d < 2; d++)
