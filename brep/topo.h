@@ -112,6 +112,48 @@ double cb_topo_projector_distance(const cb_topo_projector *pr, const double p[3]
 int cb_topo_projector_starts(double (*uv)[2], int max, const cb_topo_projector *pr,
                              const double p[3]);
 
+/* ---------------------------------------------------------------- exact B-spline forms ----- */
+
+/* The curve c over [t0, t1] as an exact rational B-spline: a line as degree 1 through C(t0) and
+ * C(t1) (the B-spline parameter is t); a circle or ellipse (t1 - t0 at most a turn) as the
+ * rational quadratic arc of cb_nurbs_curve_arc, or of cb_nurbs_curve_arc_exact with exact = 1
+ * (the parameter equals t at the knots, cb_topo_curve_nurbs_param maps it); a B-spline as
+ * itself, cut to [t0, t1] where that lies strictly inside its domain (its knots kept: the
+ * parameter is t). Errors: CB_ERR_INVALID for an empty or non-finite range of a line or conic,
+ * a conic range over a turn; CB_ERR_NOMEM. */
+cb_status cb_topo_curve_to_nurbs(cb_nurbs_curve_t out, const cb_topo_curve *c, double t0,
+                                 double t1, int exact, cb_error *err);
+/* The parameter t of c at the parameter s of cb_topo_curve_to_nurbs(c, t0, t1, exact): s
+ * itself, or for a conic cb_nurbs_arc_angle(t0, t1, exact, s). Strictly increasing, onto
+ * [t0, t1]. */
+double cb_topo_curve_nurbs_param(const cb_topo_curve *c, double t0, double t1, int exact,
+                                 double s);
+
+/* The surface s over range = {u0, u1, v0, v1} of its own parameters as an exact rational
+ * B-spline, for an SSI or any routine that takes B-splines only:
+ *   analytic    cb_analytic_to_nurbs (exact = 1: cb_analytic_to_nurbs_exact) over the range;
+ *   B-spline    a copy of the whole surface (range not used);
+ *   revolution  the profile over [v0, v1] (cb_topo_curve_to_nurbs) turned by [u0, u1] (at most
+ *               a turn) about the axis (cb_nurbs_surface_revolve);
+ *   extrusion   the profile over [u0, u1] swept along dir by [v0, v1] (degree 1 in v).
+ * exact = 1 writes arcs that are whole quarter turns from whole quarter angles with weights
+ * 1, 1, 2 (exact in binary, so exact tangencies stay exact); 0 with cos(pi / 4) rounded (the
+ * symmetric form, as CAD systems write circles), whose rows at the two ends of a full turn are
+ * bitwise the same. The image is s's over the range (to rounding of the control points); the
+ * B-spline's parameters map to s's by cb_topo_surface_nurbs_param with the same exact.
+ * Errors: CB_ERR_INVALID for ranges the conversions refuse (empty, unbounded where a line or
+ * plane needs bounds, angles over a turn), naming the profile; CB_ERR_NOMEM. */
+cb_status cb_topo_surface_to_nurbs(cb_nurbs_surface_t out, const cb_topo_surface *s,
+                                   const double range[4], int exact, cb_error *err);
+/* (u, v) of s at the parameters st of cb_topo_surface_to_nurbs(s, range, exact): closed form
+ * per direction (cb_nurbs_arc_angle for the angles of arcs, the identity for lines and
+ * B-spline profiles, which keep their parameter). Each direction is mapped by a continuous,
+ * strictly increasing function of its own parameter onto the range, so the map is a bijection
+ * of the B-spline's domain onto the range that keeps every curve's topology and the order of
+ * points along it; S_nurbs(st) = s(uv). */
+void cb_topo_surface_nurbs_param(double uv[2], const cb_topo_surface *s, const double range[4],
+                                 int exact, const double st[2]);
+
 /* ---------------------------------------------------------------- topology ----------------- */
 
 typedef struct {
