@@ -1,5 +1,7 @@
-/* Faces that cover their whole closed surface: the seams and poles that bound them (see
- * cb_topo_close_faces in topo.h). */
+/* Faces that cover their whole closed surface, and faces whose loops wind round a period of
+ * their surface without a seam (bands, caps round a pole): the seams and poles that bound
+ * them (see cb_topo_close_faces in topo.h). */
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -375,8 +377,10 @@ static double coedge_point(double p[3], const cb_topo_body *b, int c, double s)
 /* Loop l followed on the surface in N_WALK steps per coedge, each point inverted next to the
  * previous one, so the (u, v) run on continuously across the periods: uv[2 k] is the start of
  * the loop's coedge k, uv[2 count] the loop's end (its start lifted by the periods it winds
- * round). */
-static void follow_loop(double *uv, const cb_topo_body *b, int l, const cb_topo_inverter *inv)
+ * round). Returns 0 when a step jumps by more than a quarter period: the loop runs through a
+ * pole or an apex (where the periodic parameter turns at once: a half cone bounded by two
+ * rulings), and its winding is not told by the walk. */
+static int follow_loop(double *uv, const cb_topo_body *b, int l, const cb_topo_inverter *inv)
 {
     const cb_topo_loop *lp = &b->loops[l];
     double p[3], q[2];
@@ -389,10 +393,14 @@ static void follow_loop(double *uv, const cb_topo_body *b, int l, const cb_topo_
             double g[2] = {q[0], q[1]};
             coedge_point(p, b, lp->first + k, (double)s / N_WALK);
             cb_topo_inverter_invert(q, inv, p, g);
+            for (int i = 0; i < 2; i++)
+                if (inv->period[i] > 0 && fabs(q[i] - g[i]) > 0.25 * inv->period[i])
+                    return 0;
         }
         uv[2 * k + 2] = q[0];
         uv[2 * k + 3] = q[1];
     }
+    return 1;
 }
 
 /* The vertex coedge c starts at. */
@@ -550,6 +558,21 @@ static int vertex_on_line(const cb_topo_body *b, int l, const double *uv,
     return -1;
 }
 
+/* The parameter in direction 1 - w at which the surface collapses to a point (a pole, an apex)
+ * on side `side` (+1: above) of the loop followed as uv, or NAN when it does not: the apex of
+ * a cone, else the end of the domain on that side. */
+static double pole_at(const cb_topo_inverter *inv, const double *uv, int w, int side, double tol)
+{
+    int across = 1 - w;
+    const cb_topo_surface *s = inv->s;
+    double x = inv->box[2 * across + (side > 0)];
+    if (s->kind == CB_SURFACE_ANALYTIC && s->analytic.kind == CB_ANALYTIC_CONE)
+        x = -s->analytic.r1 / tan(s->analytic.angle);
+    if (!isfinite(x) || (x - uv[across]) * side <= 0 || !collapses(inv, w, x, tol))
+        return NAN;
+    return x;
+}
+
 /* One step of giving face f a seam when it is a band: its loops wind round the period of its
  * surface in one direction w once each, two of them, in opposite senses, every other loop
  * round none, and no edge is used twice by the face (it has no seam). The seam is the line
@@ -568,7 +591,15 @@ static int band_step(cb_topo_body *b, int f, double tol, cb_error *err)
 {
     const cb_topo_face *fa = &b->faces[f];
     const cb_topo_surface *s = &b->surfaces[fa->surface];
-    if (fa->count < 2 || (s->kind == CB_SURFACE_ANALYTIC && s->analytic.kind == CB_ANALYTIC_PLANE) ||
+    /* A band needs two loops; one loop can wind round a period only where the surface ends
+     * in a pole (analytic and turned surfaces here: a B-spline face of one loop is too common
+     * to follow on every read for the few that are caps). */
+    int may_pole = s->kind == CB_SURFACE_REVOLUTION ||
+                   (s->kind == CB_SURFACE_ANALYTIC && (s->analytic.kind == CB_ANALYTIC_CONE ||
+                                                      s->analytic.kind == CB_ANALYTIC_SPHERE ||
+                                                      s->analytic.kind == CB_ANALYTIC_ELLIPSOID));
+    if (fa->count < (may_pole ? 1 : 2) ||
+        (s->kind == CB_SURFACE_ANALYTIC && s->analytic.kind == CB_ANALYTIC_PLANE) ||
         s->kind == CB_SURFACE_EXTRUSION)
         return 0;
     /* No edge used twice by the face. */
@@ -583,6 +614,10 @@ static int band_step(cb_topo_body *b, int f, double tol, cb_error *err)
     if (cb_topo_inverter_init(&inv, s, tol, &local))
         return local.status == CB_ERR_NOMEM ? (cb_error_set(err, local.status, "%s", local.msg), -1)
                                             : 0;
+    if (!(inv.period[0] > 0) && !(inv.period[1] > 0)) {
+        cb_topo_inverter_clear(&inv);
+        return 0;
+    }
     int r = 0, n_pts = 0;
     for (int l = fa->first; l < fa->first + fa->count; l++)
         n_pts += 2 * b->loops[l].count + 2;
@@ -598,7 +633,8 @@ static int band_step(cb_topo_body *b, int f, double tol, cb_error *err)
     for (int k = 0, off = 0; k < fa->count; k++) {
         int l = fa->first + k, n = b->loops[l].count;
         at[k] = off;
-        follow_loop(uv + off, b, l, &inv);
+        if (!follow_loop(uv + off, b, l, &inv))
+            goto done;
         for (int i = 0; i < 2; i++) {
             double P = inv.period[i], turns = P > 0 ? (uv[off + 2 * n + i] - uv[off + i]) / P : 0;
             if (fabs(turns - round(turns)) > 0.25)
@@ -615,17 +651,29 @@ static int band_step(cb_topo_body *b, int f, double tol, cb_error *err)
         }
         off += 2 * n + 2;
     }
-    if (wind_loop[1] < 0 || wind[0] != -wind[1])
+    if (wind_loop[0] < 0 || (wind_loop[1] >= 0 && wind[0] != -wind[1]))
         goto done;
     int across = 1 - w;
-    /* A: the loop the face lies beyond in +across (left of the loop in (u, v), same_sense
-     * applied), B the other one. */
-    int first = (wind[0] * (fa->same_sense ? 1 : -1) * (w == 0 ? 1 : -1)) > 0 ? 0 : 1;
-    int la = wind_loop[first], lb = wind_loop[1 - first], wa = wind[first];
-    const double *uva = uv + at[la - fa->first], *uvb = uv + at[lb - fa->first];
+    /* The side (+1: +across) on which the face lies beyond a loop winding once round the
+     * period, wind[0]: to the left of it in (u, v) when same_sense is 1. */
+    int side = wind[0] * (fa->same_sense ? 1 : -1) * (w == 0 ? 1 : -1);
+    double pole = NAN;
+    if (wind_loop[1] < 0 && isnan(pole = pole_at(&inv, uv + at[wind_loop[0] - fa->first], w,
+                                                  side, tol)))
+        goto done;
+    /* A: the loop the face lies beyond in +across, B the other one; a lone loop is A, the
+     * face beyond it ending at the pole. */
+    int first = wind_loop[1] < 0 || side > 0 ? 0 : 1;
+    int la = wind_loop[first], lb = wind_loop[1] < 0 ? -1 : wind_loop[1 - first], wa = wind[first];
+    const double *uva = uv + at[la - fa->first], *uvb = lb < 0 ? NULL : uv + at[lb - fa->first];
     double x0 = NAN;
     int ca = -1, cb = -1;
-    if (s->kind == CB_SURFACE_NURBS) {
+    if (lb < 0) {
+        x0 = s->kind == CB_SURFACE_NURBS ? inv.box[2 * w] : uva[w];
+        ca = s->kind == CB_SURFACE_NURBS ? vertex_on_line(b, la, uva, &inv, w, x0, tol)
+                                         : b->loops[la].first;
+        cb = INT_MAX; /* the pole: no vertex to find */
+    } else if (s->kind == CB_SURFACE_NURBS) {
         x0 = inv.box[2 * w];
         ca = vertex_on_line(b, la, uva, &inv, w, x0, tol);
         cb = vertex_on_line(b, lb, uvb, &inv, w, x0, tol);
@@ -666,14 +714,17 @@ static int band_step(cb_topo_body *b, int f, double tol, cb_error *err)
     double x0w = inv.box[2 * w] + fmod(x0 - inv.box[2 * w], inv.period[w]);
     if (x0w < inv.box[2 * w])
         x0w += inv.period[w];
-    double t[2] = {uva[2 * (ca - b->loops[la].first) + across],
-                   uvb[2 * (cb - b->loops[lb].first) + across]};
+    double a0 = uva[2 * (ca - b->loops[la].first) + across];
+    double t[2] = {a0, lb < 0 ? pole : uvb[2 * (cb - b->loops[lb].first) + across]};
     double Pa = inv.period[across];
-    if (Pa > 0)
+    if (Pa > 0 && lb >= 0)
         t[1] -= Pa * floor((t[1] - t[0]) / Pa);
+    if (lb < 0 && side < 0) {
+        t[0] = pole;
+        t[1] = a0;
+    }
     if (!(t[1] - t[0] > 0))
         goto done;
-    int va = start_vertex(b, ca), vb = start_vertex(b, cb);
     int ci = seam_curve(b, &inv, across, x0w, t, tol, &local);
     if (ci < 0) {
         if (local.status == CB_ERR_NOMEM) {
@@ -682,7 +733,24 @@ static int band_step(cb_topo_body *b, int f, double tol, cb_error *err)
         }
         goto done;
     }
-    int e = seam_edge(b, ci, t, va, vb, -1, tol, err);
+    double at_pole[2];
+    at_pole[w] = x0w;
+    at_pole[across] = pole;
+    int va = start_vertex(b, ca),
+        vb = lb >= 0 ? start_vertex(b, cb) : vertex_at(b, &inv, at_pole[0], at_pole[1], -1, err);
+    int e = vb < 0 ? -1 : seam_edge(b, ci, t, va, vb, -1, tol, err);
+    if (e >= 0) {
+        /* From A's vertex to B's or the pole. The seam's ends are the surface points below
+         * the loops' vertices: an edge farther from its faces than tol puts its vertex that
+         * far from them, and the seam's tolerance takes the gap. */
+        cb_topo_edge *se = &b->edges[e];
+        se->same_sense = lb >= 0 || side > 0;
+        double p0[3], p1[3];
+        cb_topo_curve_eval(p0, &b->curves[ci], se->same_sense ? t[0] : t[1]);
+        cb_topo_curve_eval(p1, &b->curves[ci], se->same_sense ? t[1] : t[0]);
+        se->tol = fmax(se->tol, fmax(cb_vec3_dist(p0, b->vertices[va].p),
+                                     cb_vec3_dist(p1, b->vertices[vb].p)));
+    }
     /* A runs from x0w to x0w + P when it winds forward, back from x0w + P otherwise: the seam
      * coedge after A lies where A ends, the one after B where B ends (= A's start). */
     double P = inv.period[w], a_end = x0w + (wa > 0 ? P : 0), b_end = x0w + (wa > 0 ? 0 : P);
@@ -706,13 +774,14 @@ static int band_step(cb_topo_body *b, int f, double tol, cb_error *err)
             n += lp->count;
             continue;
         }
-        const cb_topo_loop *lq = &b->loops[lb];
         for (int k = 0; k < lp->count; k++) {
             list[n] = b->coedges[lp->first + (ca - lp->first + k) % lp->count];
             list[n++].pcurve = -1;
         }
         list[n++] = (cb_topo_coedge){e, 1, pa, la};
-        for (int k = 0; k < lq->count; k++) {
+        /* B, or the jump along the pole line. */
+        for (int k = 0; lb >= 0 && k < b->loops[lb].count; k++) {
+            const cb_topo_loop *lq = &b->loops[lb];
             list[n] = b->coedges[lq->first + (cb - lq->first + k) % lq->count];
             list[n++].pcurve = -1;
         }

@@ -1216,7 +1216,9 @@ static int circles_face(sbuf *s, int surface, int same_sense, const int *e, cons
  * frustum (r 1.5 to 2 over z 0..2) with both vertices at angle 0; each closed by two discs.
  * Kind 2 a ring: the outer half of a torus (R 3, r 1) and the cylinder r 3 between its
  * circles z = -1 and 1, the top vertex at angle 2: two bands sharing both circles, the torus
- * band's seam across its v period. */
+ * band's seam across its v period. Kinds 3 and 4: a face bounded by one circle that ends in a
+ * point, a cone (apex at the origin, r 1 at z 2) and a sphere cap (r 1 above z 0.5), each
+ * closed by a disc: the seam runs from the circle to the apex or pole. */
 static char *band_file(int kind)
 {
     sbuf s = {NULL, 0, 0, 1};
@@ -1235,6 +1237,18 @@ static char *band_file(int kind)
         faces[1] = circles_face(&s, pb, 0, &bottom, &f, 1);
         faces[2] = circles_face(&s, pt, 1, &top, &t, 1);
         n = 3;
+    } else if (kind > 2) {
+        /* One circle, the face beyond it ending in the cone's apex or the sphere's pole. */
+        double z = kind == 3 ? 2 : 0.5;
+        int rim = circle_edge(&s, z, kind == 3 ? 1 : sqrt(0.75), 0.5);
+        int cap = kind == 3 ? emit(&s, "CONICAL_SURFACE('',#%d,0.,%.17g);", placement_z(&s, 0, 0),
+                                   atan(0.5))
+                            : emit(&s, "SPHERICAL_SURFACE('',#%d,1.);", placement_z(&s, 0, 0));
+        int lid = emit(&s, "PLANE('',#%d);", placement_z(&s, z, 0));
+        const int along = 1, against = 0;
+        faces[0] = circles_face(&s, cap, 1, &rim, kind == 3 ? &against : &along, 1);
+        faces[1] = circles_face(&s, lid, kind == 3, &rim, kind == 3 ? &along : &against, 1);
+        n = 2;
     } else {
         int bottom = circle_edge(&s, -1, 3, 0), top = circle_edge(&s, 1, 3, 2);
         int torus = emit(&s, "TOROIDAL_SURFACE('',#%d,3.,1.);", placement_z(&s, 0, 0));
@@ -1262,10 +1276,11 @@ static void test_band_faces(void)
     static const struct {
         const char *what;
         int faces, edges, vertices;
-    } cases[3] = {{"cylinder band", 3, 4, 3}, {"cone band", 3, 3, 2}, {"torus ring", 2, 5, 3}};
-    const double volumes[3] = {pi * 2.25 * 2, pi * 2 / 3 * (2.25 + 3 + 4),
-                               pi * pi * 3 + 4 * pi / 3};
-    for (int k = 0; k < 3; k++) {
+    } cases[5] = {{"cylinder band", 3, 4, 3}, {"cone band", 3, 3, 2}, {"torus ring", 2, 5, 3},
+                  {"cone to apex", 2, 2, 2},   {"sphere cap", 2, 2, 2}};
+    const double volumes[5] = {pi * 2.25 * 2, pi * 2 / 3 * (2.25 + 3 + 4), pi * pi * 3 + 4 * pi / 3,
+                               pi * 2 / 3, pi * 0.25 * 2.5 / 3};
+    for (int k = 0; k < 5; k++) {
         char *text = band_file(k);
         cb_topo_body *b = NULL, *c = NULL;
         cb_error err;
