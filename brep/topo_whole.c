@@ -511,8 +511,8 @@ static int split_edge(cb_topo_body *b, int e, double t, cb_error *err)
  * direction w, its start at (u, v) uv0 (lifted as follow_loop lifts it): the crossing
  * between two N_WALK steps is bisected on the edge curve. Returns the edge curve parameter
  * there, or NAN when c does not cross. */
-static double crossing(const cb_topo_body *b, int c, const cb_topo_inverter *inv, const double uv0[2],
-                       int w, double x)
+static double crossing(const cb_topo_body *b, int c, const cb_topo_inverter *inv,
+                       const double uv0[2], int w, double x)
 {
     double P = inv->period[w], p[3], q[2] = {uv0[0], uv0[1]};
     for (int s = 1; s <= N_WALK; s++) {
@@ -574,19 +574,21 @@ static double pole_at(const cb_topo_inverter *inv, const double *uv, int w, int 
 }
 
 /* One step of giving face f a seam when it is a band: its loops wind round the period of its
- * surface in one direction w once each, two of them, in opposite senses, every other loop
+ * surface in one direction w once each, two of them in opposite senses, or one with the
+ * surface collapsing to a pole or apex beyond it on the face's side; every other loop winds
  * round none, and no edge is used twice by the face (it has no seam). The seam is the line
- * of the surface at w = x0 (iso_curve) between the two winding loops, x0 the parameter of a
- * vertex of the first loop (of both when some pair lies on one line; a B-spline's domain start,
- * where its line is exact). A loop with no vertex on that line first gets one: its edge that
- * crosses the line is split there (split_edge; its other face follows), and the step returns
- * 2 to be run again. Otherwise the two loops become one: [first loop from its vertex on the
- * line, seam, second loop from its vertex, seam reversed], the seam running from the first
- * loop towards the second across the face (the face lies on that side of the first loop: to
- * the left of the loop in (u, v) when same_sense is 1); returns 1. The loop's coedges lose
- * their pcurves (computed later, joined to the seam's); the two seam coedges get the exact
- * lines of the seam's two copies, a period apart. Returns 0 (nothing changed) when f is no
- * band or has no exact seam line here, -1 on error (CB_ERR_NOMEM). */
+ * of the surface at w = x0 (iso_curve) from the first winding loop to the second or to the
+ * pole (a new vertex), x0 the parameter of a vertex of the first loop (of both when some pair
+ * lies on one line; a B-spline's domain start, where its line is exact). A loop with no
+ * vertex on that line first gets one: its edge that crosses the line is split there
+ * (split_edge; its other face follows), and the step returns 2 to be run again. Otherwise
+ * the loops become one: [first loop from its vertex on the line, seam, second loop from its
+ * vertex (or the jump along the pole line), seam reversed], the seam running across the face
+ * from the first loop, which is the one the face lies beyond in +(1 - w) (to the left of the
+ * loop in (u, v) when same_sense is 1; for a lone loop the side the pole is on); returns 1.
+ * The loop's coedges lose their pcurves (computed later, joined to the seam's); the two seam
+ * coedges get the exact lines of the seam's two copies, a period apart. Returns 0 (nothing
+ * changed) when f is no band or has no exact seam line here, -1 on error (CB_ERR_NOMEM). */
 static int band_step(cb_topo_body *b, int f, double tol, cb_error *err)
 {
     const cb_topo_face *fa = &b->faces[f];
@@ -596,8 +598,8 @@ static int band_step(cb_topo_body *b, int f, double tol, cb_error *err)
      * to follow on every read for the few that are caps). */
     int may_pole = s->kind == CB_SURFACE_REVOLUTION ||
                    (s->kind == CB_SURFACE_ANALYTIC && (s->analytic.kind == CB_ANALYTIC_CONE ||
-                                                      s->analytic.kind == CB_ANALYTIC_SPHERE ||
-                                                      s->analytic.kind == CB_ANALYTIC_ELLIPSOID));
+                                                       s->analytic.kind == CB_ANALYTIC_SPHERE ||
+                                                       s->analytic.kind == CB_ANALYTIC_ELLIPSOID));
     if (fa->count < (may_pole ? 1 : 2) ||
         (s->kind == CB_SURFACE_ANALYTIC && s->analytic.kind == CB_ANALYTIC_PLANE) ||
         s->kind == CB_SURFACE_EXTRUSION)
@@ -658,8 +660,8 @@ static int band_step(cb_topo_body *b, int f, double tol, cb_error *err)
      * period, wind[0]: to the left of it in (u, v) when same_sense is 1. */
     int side = wind[0] * (fa->same_sense ? 1 : -1) * (w == 0 ? 1 : -1);
     double pole = NAN;
-    if (wind_loop[1] < 0 && isnan(pole = pole_at(&inv, uv + at[wind_loop[0] - fa->first], w,
-                                                  side, tol)))
+    if (wind_loop[1] < 0 &&
+        isnan(pole = pole_at(&inv, uv + at[wind_loop[0] - fa->first], w, side, tol)))
         goto done;
     /* A: the loop the face lies beyond in +across, B the other one; a lone loop is A, the
      * face beyond it ending at the pole. */
