@@ -1218,7 +1218,8 @@ static int circles_face(sbuf *s, int surface, int same_sense, const int *e, cons
  * circles z = -1 and 1, the top vertex at angle 2: two bands sharing both circles, the torus
  * band's seam across its v period. Kinds 3 and 4: a face bounded by one circle that ends in a
  * point, a cone (apex at the origin, r 1 at z 2) and a sphere cap (r 1 above z 0.5), each
- * closed by a disc: the seam runs from the circle to the apex or pole. */
+ * closed by a disc: the seam runs from the circle to the apex or pole. Kind 5: kind 0's
+ * cylinder as a rational B-spline, its vertices at angles 1 and 2. */
 static char *band_file(int kind)
 {
     sbuf s = {NULL, 0, 0, 1};
@@ -1236,6 +1237,37 @@ static char *band_file(int kind)
         faces[0] = circles_face(&s, side, 1, e2, s2, 2);
         faces[1] = circles_face(&s, pb, 0, &bottom, &f, 1);
         faces[2] = circles_face(&s, pt, 1, &top, &t, 1);
+        n = 3;
+    } else if (kind == 5) {
+        /* The cylinder of kind 0 as a rational B-spline (u: the circle from angle 0, v: z),
+         * its circles' vertices at angles 1 and 2: both are split at the domain's start. */
+        int bottom = circle_edge(&s, 0, 1.5, 1), top = circle_edge(&s, 2, 1.5, 2), pt[9][2];
+        for (int i = 0; i < 9; i++)
+            for (int j = 0; j < 2; j++) {
+                double a = i * 0.25 * 3.14159265358979323846, r = i % 2 ? 1.5 * sqrt(2) : 1.5;
+                pt[i][j] = emit(&s, "CARTESIAN_POINT('',(%.17g,%.17g,%d.));", r * cos(a),
+                                r * sin(a), 2 * j);
+            }
+        char rows[512] = "", weights[512] = "";
+        for (int i = 0; i < 9; i++) {
+            double w = i % 2 ? sqrt(0.5) : 1;
+            snprintf(rows + strlen(rows), sizeof rows - strlen(rows), "%s(#%d,#%d)", i ? "," : "",
+                     pt[i][0], pt[i][1]);
+            snprintf(weights + strlen(weights), sizeof weights - strlen(weights), "%s(%.17g,%.17g)",
+                     i ? "," : "", w, w);
+        }
+        int side = emit(&s,
+                        "( BOUNDED_SURFACE() B_SPLINE_SURFACE(2,1,(%s),.UNSPECIFIED.,.T.,.F.,.F.) "
+                        "B_SPLINE_SURFACE_WITH_KNOTS((3,2,2,2,3),(2,2),(0.,0.25,0.5,0.75,1.),"
+                        "(0.,1.),.UNSPECIFIED.) GEOMETRIC_REPRESENTATION_ITEM() "
+                        "RATIONAL_B_SPLINE_SURFACE((%s)) REPRESENTATION_ITEM('') SURFACE() );",
+                        rows, weights);
+        int pb = emit(&s, "PLANE('',#%d);", placement_z(&s, 0, 0));
+        int pt2 = emit(&s, "PLANE('',#%d);", placement_z(&s, 2, 0));
+        const int e2[2] = {bottom, top}, s2[2] = {1, 0}, f = 0, t = 1;
+        faces[0] = circles_face(&s, side, 1, e2, s2, 2);
+        faces[1] = circles_face(&s, pb, 0, &bottom, &f, 1);
+        faces[2] = circles_face(&s, pt2, 1, &top, &t, 1);
         n = 3;
     } else if (kind > 2) {
         /* One circle, the face beyond it ending in the cone's apex or the sphere's pole. */
@@ -1276,11 +1308,12 @@ static void test_band_faces(void)
     static const struct {
         const char *what;
         int faces, edges, vertices;
-    } cases[5] = {{"cylinder band", 3, 4, 3}, {"cone band", 3, 3, 2}, {"torus ring", 2, 5, 3},
-                  {"cone to apex", 2, 2, 2},   {"sphere cap", 2, 2, 2}};
-    const double volumes[5] = {pi * 2.25 * 2, pi * 2 / 3 * (2.25 + 3 + 4), pi * pi * 3 + 4 * pi / 3,
-                               pi * 2 / 3, pi * 0.25 * 2.5 / 3};
-    for (int k = 0; k < 5; k++) {
+    } cases[6] = {{"cylinder band", 3, 4, 3}, {"cone band", 3, 3, 2}, {"torus ring", 2, 5, 3},
+                  {"cone to apex", 2, 2, 2},   {"sphere cap", 2, 2, 2},
+                  {"B-spline band", 3, 5, 4}};
+    const double volumes[6] = {pi * 2.25 * 2, pi * 2 / 3 * (2.25 + 3 + 4), pi * pi * 3 + 4 * pi / 3,
+                               pi * 2 / 3,    pi * 0.25 * 2.5 / 3,          pi * 2.25 * 2};
+    for (int k = 0; k < 6; k++) {
         char *text = band_file(k);
         cb_topo_body *b = NULL, *c = NULL;
         cb_error err;
