@@ -52,10 +52,13 @@ static cb_status conic(cb_topo_curve *c, const double o[3], const double x[3], c
 
 /* The line of surface s running in direction `along` (0: u) with the other parameter fixed at
  * x, as an exact curve c parameterised by the surface parameter it runs along (so the curve
- * point at t is S(t, x) or S(x, t)). Lines of the analytic surfaces and of revolutions at any
- * x; a B-spline's only at the start of its domain (x = box[2 (1 - along)]), where they are its
- * boundary row of control points (an interior one would need knot insertion). Returns
- * CB_ERR_UNSUPPORTED for a surface kind, direction or x without such a curve here. */
+ * point at t is S(t, x) or S(x, t)): lines of the analytic surfaces at any x (rulings of
+ * cylinders and cones, meridians of spheres, ellipsoids and tori, parallels of tori), a
+ * revolution's parallels at any v and its profile (the line at u = 0), an extrusion's rulings
+ * at any u, a B-spline's lines at
+ * the start of its domain (x = box[2 (1 - along)]: its boundary row of control points; an
+ * interior one would need knot insertion). Returns CB_ERR_UNSUPPORTED for a surface kind,
+ * direction or x without such a curve here. */
 static cb_status iso_curve(cb_topo_curve *c, const cb_topo_inverter *inv, int along, double x,
                            cb_error *err)
 {
@@ -117,21 +120,16 @@ static cb_status iso_curve(cb_topo_curve *c, const cb_topo_inverter *inv, int al
         c->kind = CB_CURVE_NURBS;
         return CB_OK;
     } else if (s->kind == CB_SURFACE_REVOLUTION) {
-        if (along == 1) {
-            /* The profile is the line at u = 0; the line at u = x is the profile turned by x
-             * about the axis. */
+        if (along == 1 && x == inv->box[0]) {
+            /* The profile itself is the line at u = 0. */
             *c = s->profile;
             cb_nurbs_curve_init(c->nurbs);
-            cb_status st = CB_OK;
             if (s->profile.kind == CB_CURVE_NURBS)
-                st = cb_nurbs_curve_set(c->nurbs, s->profile.nurbs, err);
-            if (!st && x != 0) {
-                cb_xform turn;
-                cb_xform_rotation(&turn, s->frame.o, s->frame.z, x);
-                cb_topo_curve_transform(c, &turn);
-            }
-            return st;
+                return cb_nurbs_curve_set(c->nurbs, s->profile.nurbs, err);
+            return CB_OK;
         }
+        if (along == 1)
+            return cb_error_set(err, CB_ERR_UNSUPPORTED, "no v line of a revolution at %g", x);
         /* The parallel through the profile's point at v = x: turned about the axis. */
         double p[3], foot[3], xd[3], y[3];
         cb_topo_curve_eval(p, &s->profile, x);
@@ -148,6 +146,13 @@ static cb_status iso_curve(cb_topo_curve *c, const cb_topo_inverter *inv, int al
             return cb_error_set(err, CB_ERR_UNSUPPORTED, "the profile meets the axis there");
         cb_vec3_cross(y, z, xd);
         return conic(c, foot, xd, y, r, r, err);
+    } else if (s->kind == CB_SURFACE_EXTRUSION && along == 1) {
+        /* The ruling at u = x: profile(x) + v dir, a line of speed |dir|. */
+        double o[3];
+        cb_topo_curve_eval(o, &s->profile, x);
+        c->kind = CB_CURVE_LINE;
+        c->r1 = cb_vec3_norm(s->dir);
+        return cb_frame_make(&c->frame, o, s->dir, NULL, err);
     }
     return cb_error_set(err, CB_ERR_UNSUPPORTED, "no %s line of a %s surface at %g",
                         along ? "v" : "u", cb_topo_surface_type_name(s), x);
@@ -578,8 +583,7 @@ static double pole_at(const cb_topo_inverter *inv, const double *uv, int w, int 
  * surface collapsing to a pole or apex beyond it on the face's side; every other loop winds
  * round none, and no edge is used twice by the face (it has no seam). The seam is the line
  * of the surface at w = x0 (iso_curve) from the first winding loop to the second or to the
- * pole (a new vertex), x0 the parameter of a vertex of the first loop (of both when some pair
- * lies on one line; a B-spline's domain start, where its line is exact). A loop with no
+ * pole (a new vertex), x0 the start of the domain in w. A loop with no
  * vertex on that line first gets one: its edge that crosses the line is split there
  * (split_edge; its other face follows), and the step returns 2 to be run again. Otherwise
  * the loops become one: [first loop from its vertex on the line, seam, second loop from its
@@ -601,8 +605,7 @@ static int band_step(cb_topo_body *b, int f, double tol, cb_error *err)
                                                        s->analytic.kind == CB_ANALYTIC_SPHERE ||
                                                        s->analytic.kind == CB_ANALYTIC_ELLIPSOID));
     if (fa->count < (may_pole ? 1 : 2) ||
-        (s->kind == CB_SURFACE_ANALYTIC && s->analytic.kind == CB_ANALYTIC_PLANE) ||
-        s->kind == CB_SURFACE_EXTRUSION)
+        (s->kind == CB_SURFACE_ANALYTIC && s->analytic.kind == CB_ANALYTIC_PLANE))
         return 0;
     /* No edge used twice by the face. */
     for (int l = fa->first; l < fa->first + fa->count; l++)
@@ -668,29 +671,15 @@ static int band_step(cb_topo_body *b, int f, double tol, cb_error *err)
     int first = wind_loop[1] < 0 || side > 0 ? 0 : 1;
     int la = wind_loop[first], lb = wind_loop[1] < 0 ? -1 : wind_loop[1 - first], wa = wind[first];
     const double *uva = uv + at[la - fa->first], *uvb = lb < 0 ? NULL : uv + at[lb - fa->first];
-    double x0 = NAN;
-    int ca = -1, cb = -1;
-    if (lb < 0) {
-        x0 = s->kind == CB_SURFACE_NURBS ? inv.box[2 * w] : uva[w];
-        ca = s->kind == CB_SURFACE_NURBS ? vertex_on_line(b, la, uva, &inv, w, x0, tol)
-                                         : b->loops[la].first;
-        cb = INT_MAX; /* the pole: no vertex to find */
-    } else if (s->kind == CB_SURFACE_NURBS) {
-        x0 = inv.box[2 * w];
-        ca = vertex_on_line(b, la, uva, &inv, w, x0, tol);
-        cb = vertex_on_line(b, lb, uvb, &inv, w, x0, tol);
-    } else {
-        /* A vertex of A on one line with a vertex of B saves splitting an edge. */
-        for (int k = 0; k < b->loops[la].count && cb < 0; k++) {
-            x0 = uva[2 * k + w];
-            ca = b->loops[la].first + k;
-            cb = vertex_on_line(b, lb, uvb, &inv, w, x0, tol);
-        }
-        if (cb < 0) {
-            x0 = uva[w];
-            ca = b->loops[la].first;
-        }
-    }
+    /* The seam at the start of the domain in w, where Open CASCADE's FixMissingSeam puts it
+     * and brep/prim.h lays out its faces: the loop then spans the first period, as the
+     * Booleans' cut windows expect (OCC2368.stp against moved copies, bench_parts: seams at
+     * a vertex of each face, u = 4.71 on its face 1, left runs refused that pass so), and a
+     * B-spline's line is exact there. */
+    double x0 = inv.box[2 * w];
+    int ca = vertex_on_line(b, la, uva, &inv, w, x0, tol);
+    int cb = lb < 0 ? INT_MAX /* the pole: no vertex to find */
+                    : vertex_on_line(b, lb, uvb, &inv, w, x0, tol);
     if (ca < 0 || cb < 0) {
         /* Give the loop a vertex on the line first. */
         int l = ca < 0 ? la : lb, c = -1;
@@ -713,9 +702,7 @@ static int band_step(cb_topo_body *b, int f, double tol, cb_error *err)
         goto done;
     }
     /* The seam: the line at x0 from A's vertex across the face to B's. */
-    double x0w = inv.box[2 * w] + fmod(x0 - inv.box[2 * w], inv.period[w]);
-    if (x0w < inv.box[2 * w])
-        x0w += inv.period[w];
+    double P = inv.period[w], x0w = x0;
     double a0 = uva[2 * (ca - b->loops[la].first) + across];
     double t[2] = {a0, lb < 0 ? pole : uvb[2 * (cb - b->loops[lb].first) + across]};
     double Pa = inv.period[across];
@@ -755,7 +742,7 @@ static int band_step(cb_topo_body *b, int f, double tol, cb_error *err)
     }
     /* A runs from x0w to x0w + P when it winds forward, back from x0w + P otherwise: the seam
      * coedge after A lies where A ends, the one after B where B ends (= A's start). */
-    double P = inv.period[w], a_end = x0w + (wa > 0 ? P : 0), b_end = x0w + (wa > 0 ? 0 : P);
+    double a_end = x0w + (wa > 0 ? P : 0), b_end = x0w + (wa > 0 ? 0 : P);
     int pa = e < 0 ? -1 : seam_pcurve(b, across, a_end, err);
     int pb = pa < 0 ? -1 : seam_pcurve(b, across, b_end, err);
     if (pb < 0) {

@@ -1211,26 +1211,38 @@ static int circles_face(sbuf *s, int surface, int same_sense, const int *e, cons
 }
 
 /* Solids whose side faces are bands bounded by two full circles with no seam edge, as many
- * CAD files write them (OCC2368.stp: 13 of its 18 faces): kind 0 a cylinder (r 1.5, z 0..2),
- * its top circle's vertex at angle 1 (not on one ruling with the bottom's), kind 1 a cone
- * frustum (r 1.5 to 2 over z 0..2) with both vertices at angle 0; each closed by two discs.
- * Kind 2 a ring: the outer half of a torus (R 3, r 1) and the cylinder r 3 between its
- * circles z = -1 and 1, the top vertex at angle 2: two bands sharing both circles, the torus
- * band's seam across its v period. Kinds 3 and 4: a face bounded by one circle that ends in a
- * point, a cone (apex at the origin, r 1 at z 2) and a sphere cap (r 1 above z 0.5), each
- * closed by a disc: the seam runs from the circle to the apex or pole. Kind 5: kind 0's
- * cylinder as a rational B-spline, its vertices at angles 1 and 2. */
+ * CAD files write them (OCC2368.stp: 13 of its 18 faces). The seam goes at u = 0 of the
+ * surface (cb_topo_close_faces), so the edge counts tell which circles were split there:
+ * kind 0 a cylinder (r 1.5, z 0..2) whose bottom circle's vertex is at its u = 0, the top's
+ * at angle 1 (split); kind 1 a cone frustum (r 1.5 to 2 over z 0..2), both vertices at angle
+ * 0 but the cone's u = 0 at angle 0.3 (both split); each closed by two discs. Kind 2 a ring:
+ * the outer half of a torus (R 3, r 1, u = 0 at angle 0) and the cylinder r 3 (u = 0 at angle
+ * 0.5) between the circles z = -1 (vertex at angle 0) and z = 1 (angle 2): two bands sharing
+ * both circles (split three times), the torus band's seam across its v period. Kinds 3 and 4:
+ * a face bounded by one circle (vertex at angle 0.5, split) that ends in a point, a cone (apex
+ * at the origin, r 1 at z 2) and a sphere cap (r 1 above z 0.5), each closed by a disc: the
+ * seam runs from the circle to the apex or pole. Kind 5: kind 0's cylinder as a rational
+ * B-spline, its vertices at angles 1 and 2 (both split); kind 6: as a circle extruded. */
 static char *band_file(int kind)
 {
     sbuf s = {NULL, 0, 0, 1};
     start_file(&s);
     int faces[3], n;
-    if (kind < 2) {
-        double r1 = kind == 0 ? 1.5 : 2.0;
-        int bottom = circle_edge(&s, 0, 1.5, 0), top = circle_edge(&s, 2, r1, kind == 0 ? 1 : 0);
-        int side = kind == 0 ? emit(&s, "CYLINDRICAL_SURFACE('',#%d,1.5);", placement_z(&s, 0, 0))
-                             : emit(&s, "CONICAL_SURFACE('',#%d,1.5,%.17g);",
-                                    placement_z(&s, 0, 0.3), atan(0.25));
+    if (kind < 2 || kind == 6) {
+        double r1 = kind == 1 ? 2.0 : 1.5;
+        int bottom = circle_edge(&s, 0, 1.5, 0), top = circle_edge(&s, 2, r1, kind == 1 ? 0 : 1);
+        int side;
+        if (kind == 0) {
+            side = emit(&s, "CYLINDRICAL_SURFACE('',#%d,1.5);", placement_z(&s, 0, 0));
+        } else if (kind == 1) {
+            side = emit(&s, "CONICAL_SURFACE('',#%d,1.5,%.17g);", placement_z(&s, 0, 0.3),
+                        atan(0.25));
+        } else {
+            int profile = emit(&s, "CIRCLE('',#%d,1.5);", placement_z(&s, 0, 0));
+            int dir = emit(&s, "DIRECTION('',(0.,0.,1.));");
+            int vec = emit(&s, "VECTOR('',#%d,1.);", dir);
+            side = emit(&s, "SURFACE_OF_LINEAR_EXTRUSION('',#%d,#%d);", profile, vec);
+        }
         int pb = emit(&s, "PLANE('',#%d);", placement_z(&s, 0, 0));
         int pt = emit(&s, "PLANE('',#%d);", placement_z(&s, 2, 0));
         const int e2[2] = {bottom, top}, s2[2] = {1, 0}, f = 0, t = 1;
@@ -1308,12 +1320,13 @@ static void test_band_faces(void)
     static const struct {
         const char *what;
         int faces, edges, vertices;
-    } cases[6] = {{"cylinder band", 3, 4, 3}, {"cone band", 3, 3, 2}, {"torus ring", 2, 5, 3},
-                  {"cone to apex", 2, 2, 2},   {"sphere cap", 2, 2, 2},
-                  {"B-spline band", 3, 5, 4}};
-    const double volumes[6] = {pi * 2.25 * 2, pi * 2 / 3 * (2.25 + 3 + 4), pi * pi * 3 + 4 * pi / 3,
-                               pi * 2 / 3,    pi * 0.25 * 2.5 / 3,          pi * 2.25 * 2};
-    for (int k = 0; k < 6; k++) {
+    } cases[7] = {{"cylinder band", 3, 4, 3}, {"cone band", 3, 5, 4}, {"torus ring", 2, 7, 5},
+                  {"cone to apex", 2, 3, 3},   {"sphere cap", 2, 3, 3},
+                  {"B-spline band", 3, 5, 4},  {"extrusion band", 3, 4, 3}};
+    const double volumes[7] = {pi * 2.25 * 2, pi * 2 / 3 * (2.25 + 3 + 4), pi * pi * 3 + 4 * pi / 3,
+                               pi * 2 / 3,    pi * 0.25 * 2.5 / 3,          pi * 2.25 * 2,
+                               pi * 2.25 * 2};
+    for (int k = 0; k < 7; k++) {
         char *text = band_file(k);
         cb_topo_body *b = NULL, *c = NULL;
         cb_error err;
