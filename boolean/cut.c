@@ -489,9 +489,8 @@ static int kink_split(const cut_ctx *cx, const cut_run *r, int i, cut_pt *before
 cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cut_ctx *cx,
                              const cb_ssi_curve *c, int curve, cb_error *err)
 {
-    if (!closed && !length_over(r, CB_BOOL_WELD * cx->min_len))
-        return CB_OK; /* a curve grazing a corner of a face: its piece would weld into a
-                         point, leaving a sliver on one face and none on the other */
+    if (!closed && !length_over(r, cx->min_len))
+        return CB_OK; /* a curve grazing a corner of a face: no piece to split by */
     for (int i = 0; i < r->n; i++)
         for (int s = 0; s < 2; s++)
             for (int d = 0; d < 2; d++)
@@ -621,11 +620,13 @@ static int cmp_double(const void *x, const void *y)
  * face's loops (cb_face_chord_crossings), a point is added (moved onto the curve: refine_pt)
  * between every two successive crossings, which the walk in cb_bool_cuts_make then
  * classifies, the exits being bisected as usual. (The chord in (u, v) is not the curve's
- * image: a stretch narrower than that chord error may still be missed.) *pts (n points, replaced) keeps its first and last points. Returns -1
+ * image: a stretch narrower than that chord error may still be missed.) added[i] (allocated)
+ * marks the points added. *pts (n points, replaced) keeps its first and last points. Returns -1
  * when out of memory. */
-static int add_crossing_points(cut_pt **pts, int *n, const cut_ctx *cx)
+static int add_crossing_points(cut_pt **pts, char **added, int *n, const cut_ctx *cx)
 {
     cut_pt *p = *pts, *out = NULL;
+    char *add = NULL;
     int m = 0, cap = 0, nt = 0, tcap = 0, fail = 0;
     double *t = NULL;
     for (int i = 0; i < *n && !fail; i++) {
@@ -647,13 +648,17 @@ static int add_crossing_points(cut_pt **pts, int *n, const cut_ctx *cx)
         if (m + 1 + extra > cap) {
             int c = 2 * (m + 1 + extra) + 16;
             cut_pt *q = realloc(out, (size_t)c * sizeof *q);
-            if (!q) {
+            char *a = q ? realloc(add, (size_t)c) : NULL;
+            if (q)
+                out = q;
+            if (!a) {
                 fail = -1;
                 break;
             }
-            out = q;
+            add = a;
             cap = c;
         }
+        add[m] = 0;
         out[m++] = p[i];
         if (!extra)
             continue;
@@ -669,16 +674,18 @@ static int add_crossing_points(cut_pt **pts, int *n, const cut_ctx *cx)
             lerp_pt(out + m, p + i, &bu, 0.5 * (t[j] + t[j + 1]));
             if (L > 1e-2 * cx->min_len)
                 refine_pt(out + m, cx, ch, L);
-            m++;
+            add[m++] = 1;
         }
     }
     free(t);
     if (fail) {
         free(out);
+        free(add);
         return -1;
     }
     free(p);
     *pts = out;
+    *added = add;
     *n = m;
     return 0;
 }
@@ -975,10 +982,11 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
         }
         for (int s = 0; s < 2; s++)
             cb_topo_settle_poles(pts[0].uv[s], sizeof *pts, n, &cx.f[s]->inv);
-        char *in2 = NULL;
-        if (add_crossing_points(&pts, &n, &cx) || !(in2 = realloc(in, (size_t)n))) {
+        char *in2 = NULL, *added = NULL;
+        if (add_crossing_points(&pts, &added, &n, &cx) || !(in2 = realloc(in, (size_t)n))) {
             free(pts);
             free(in);
+            free(added);
             return cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
         }
         in = in2;
@@ -1001,6 +1009,12 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
             int start = c->closed ? first_out : 0, steps = c->closed ? n - 1 : n;
             int prev_in = 0;
             const cut_pt *prev = NULL;
+            /* A run of points all added between the curve's own (add_crossing_points) and
+             * shorter than the weld distance is a graze of a corner the SSI's points did not
+             * see: its piece would weld into a point on one face and leave a sliver region
+             * on the other. */
+            int own = 0;
+            double graze = CB_BOOL_WELD * tol;
             for (int j = 0; j <= steps && !st; j++) {
                 if (!c->closed && j == steps)
                     break;
@@ -1014,24 +1028,27 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
                 }
                 if (in[i] && !st && _cb_cut_run_push(&run, p))
                     st = cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
+                own |= in[i] && !added[i];
                 if (!in[i] && prev_in && !st) {
                     cut_pt x;
                     exit_point(&x, &cx, prev, p, cls_tol);
                     if (_cb_cut_run_push(&run, &x))
                         st = cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
-                    else if (run.n >= 2)
+                    else if (run.n >= 2 && (own || length_over(&run, graze)))
                         st = _cb_cut_split_emit(out, &run, 0, &cx, c, (int)k, err);
                     run.n = 0;
+                    own = 0;
                 }
                 prev_in = in[i];
                 prev = p;
             }
-            if (!st && run.n >= 2)
+            if (!st && run.n >= 2 && (own || length_over(&run, graze)))
                 st = _cb_cut_split_emit(out, &run, 0, &cx, c, (int)k, err);
         }
         free(run.p);
         free(pts);
         free(in);
+        free(added);
     }
     if (!st)
         st = _cb_cuts_imprint(out, r, A, B, tol, err);

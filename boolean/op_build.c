@@ -702,6 +702,18 @@ cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, op_face *faces, int
                 b->loops[lp].count = b->n_coedges - b->loops[lp].first;
                 b->faces[f].count++;
             }
+            int empty = !st;
+            for (int l = b->faces[f].first; l < b->faces[f].first + b->faces[f].count && empty; l++)
+                empty = b->loops[l].count == 0;
+            if (empty) {
+                /* Every piece of the region welded into a point (a sliver between a cut and the
+                 * boundary, narrower than the weld distance): no face. The other side's pieces
+                 * along it weld into the same points. */
+                b->n_loops = b->faces[f].first;
+                b->n_faces--;
+                cb_topo_surface_clear(b->surfaces + sf);
+                b->n_surfaces--;
+            }
         }
         cb_topo_inverter_clear(&inv);
     }
