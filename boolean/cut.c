@@ -456,7 +456,7 @@ static int side_tangent(double t[3], const cut_ctx *cx, const cut_run *r, int i,
 
 /* 1 when the curve has a corner at interior point i of run r: where it crosses a crease of
  * a face (a knot line where a B-spline surface is only C0, an edge of a polyline extruded),
- * the intersection curve turns there. The cut's curve is G1 at its points (cb_bool_cut_curve),
+ * the intersection curve turns there (by less than 0.9 pi). The cut's curve is G1 at its points (cb_bool_cut_curve),
  * so across a corner its cubics would bulge off the surfaces by about a quarter of the turn
  * times the step: split there (before = after = the point) when that would exceed a tenth of
  * the tolerance. */
@@ -476,7 +476,9 @@ static int kink_split(const cut_ctx *cx, const cut_run *r, int i, cut_pt *before
             e[k] = r->p[j + 1].xyz[k] - r->p[j].xyz[k];
         step = fmax(step, norm3(e));
     }
-    if (!(turn > 1e-3 && 0.25 * turn * step > 0.1 * cx->min_len))
+    /* Near a half turn the polyline doubles back on itself (the SSI's points out of order
+     * for a step), which a split would only cut into slivers. */
+    if (!(turn > 1e-3 && turn < 0.9 * CB_SSI_PI && 0.25 * turn * step > 0.1 * cx->min_len))
         return 0;
     *before = *after = r->p[i];
     return 1;

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "brep/bbox.h"
+#include "brep/geom.h"
 #include "brep/parallel.h"
 #include "ssi/ssi.h"
 
@@ -16,6 +17,34 @@
 static double turn_diff(double x)
 {
     return x - 2 * CB_SSI_PI * nearbyint(x / (2 * CB_SSI_PI));
+}
+
+/* For a circle or ellipse edge over [t0, t1] on a plane a: widens lo, hi (the plane's
+ * parameters) to the arc's extremes (where the derivative of each parameter vanishes, within
+ * the range) and returns 1; 0 for other curves or surfaces. */
+static int conic_on_plane(double lo[2], double hi[2], const cb_analytic_surface *a,
+                          const cb_topo_curve *c, double t0, double t1)
+{
+    if (a->kind != CB_ANALYTIC_PLANE ||
+        (c->kind != CB_CURVE_CIRCLE && c->kind != CB_CURVE_ELLIPSE) || !(t1 >= t0))
+        return 0;
+    const double *ax[2] = {a->frame.x, a->frame.y};
+    for (int d = 0; d < 2; d++) {
+        /* parameter d along the conic: const + A cos t + B sin t */
+        double A = c->r1 * cb_vec3_dot(c->frame.x, ax[d]), B = c->r2 * cb_vec3_dot(c->frame.y, ax[d]);
+        double ts = atan2(B, A);
+        for (int k = -2; k <= 3; k++) {
+            double t = ts + k * CB_SSI_PI;
+            if (t < t0 || t > t1)
+                continue;
+            double X[3], uv[2];
+            cb_topo_curve_eval(X, c, t);
+            _cb_ssi_analytic_invert(uv, a, X);
+            lo[d] = fmin(lo[d], uv[d]);
+            hi[d] = fmax(hi[d], uv[d]);
+        }
+    }
+    return 1;
 }
 
 /* The face's surface as an SSI input; an analytic face is bounded by the parameter box of its
@@ -86,10 +115,13 @@ static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
                 have = 1;
             }
             /* The extremes of an arc lie between its samples (a plane face bounded by a
-             * circle of radius r reached r (1 - cos(pi / 16)) beyond them): the edge's
-             * samples' extent is grown by twice its deviation from their chords. Curves are
-             * clipped to this box and trimmed to the face's loops later (boolean/cut.c), so a
-             * box too large costs little. */
+             * circle of radius r reached r (1 - cos(pi / 16)) beyond them). A conic on a
+             * plane has them in closed form (the plane's parameters are affine in space);
+             * any other edge's samples' extent is grown by twice its deviation from their
+             * chords. Curves are clipped to this box and trimmed to the face's loops later
+             * (boolean/cut.c), so a box too large costs little. */
+            if (conic_on_plane(elo, ehi, a, b->curves + e->curve, e->t0, e->t1))
+                edev[0] = edev[1] = 0;
             for (int d = 0; d < 2; d++)
                 if (periodic[d]) {
                     grow[d] = fmax(grow[d], edev[d]);
