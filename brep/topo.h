@@ -306,6 +306,28 @@ int cb_topo_body_surface_types(const char *names[8], int counts[8], const cb_top
  * face to the left of each coedge when same_sense is 1 (a pcurve computed by inverting a
  * B-spline seam lands a rounding error off the domain's end, which puts the seam's two copies
  * less than a period apart). Appends entities (the incidence index must be rebuilt).
+ * Bands (as Open CASCADE's ShapeFix_Face::FixMissingSeam fixes them): a face whose loops wind
+ * round the period of its surface in one direction w without a seam edge (no edge used twice
+ * by the face): two loops once each in opposite senses (a cylinder, cone, sphere zone or
+ * torus band bounded by two circles), or one loop once with the surface collapsing to a point
+ * on the face's side of it (a cone round its apex, a sphere cap; analytic and turned surfaces
+ * only), every other loop winding round no period. The windings are found by following each
+ * loop on the surface (16 inversions per edge, each next to the previous; a loop through a
+ * pole or apex, where a step jumps by more than a quarter period, is not decided and its face
+ * is left as it is). The face gets a seam: the line of its surface at the start of its domain
+ * in w (where Open CASCADE's FixMissingSeam and brep/prim.h put seams, so the loop spans the
+ * first period) from the first loop across the face to the second loop or the pole (a new
+ * vertex there). A loop without a vertex on that line first gets one: the edge crossing the
+ * line is split there (the crossing bisected on the edge curve), and every coedge of that
+ * edge, in this face or its neighbour, becomes two. The loops become one loop [first loop from its vertex, seam, second
+ * loop from its vertex (or the jump along the pole line), seam reversed], the seam running
+ * across the face from the loop whose side the face lies on (to the left of it in (u, v) when
+ * same_sense is 1); the seam's two coedges get the exact lines of its two copies a period
+ * apart, the loop's other coedges lose their pcurves (computed afterwards, joined to the
+ * seam's). The seams are exact: rulings of cylinders, cones and extrusions, meridians and
+ * parallels of spheres, ellipsoids and tori, the profile and the parallels of revolutions, a
+ * B-spline's boundary column; a face whose seam cannot be made so is left as it was.
+ * Coedges are renumbered by the split and the join (the loops' ranges follow).
  * *closed counts the faces changed (may be NULL). A seam that cannot be made (not expected:
  * the curve found off its surface) leaves its face as it was. Errors: CB_ERR_NOMEM naming the
  * face. */

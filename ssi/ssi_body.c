@@ -25,6 +25,35 @@ static double turn_diff(double x)
     return x - 2 * CB_SSI_PI * nearbyint(x / (2 * CB_SSI_PI));
 }
 
+/* For a circle or ellipse edge over [t0, t1] on a plane a: widens lo, hi (the plane's
+ * parameters) to the arc's extremes (where the derivative of each parameter vanishes, within
+ * the range) and returns 1; 0 for other curves or surfaces. */
+static int conic_on_plane(double lo[2], double hi[2], const cb_analytic_surface *a,
+                          const cb_topo_curve *c, double t0, double t1)
+{
+    if (a->kind != CB_ANALYTIC_PLANE ||
+        (c->kind != CB_CURVE_CIRCLE && c->kind != CB_CURVE_ELLIPSE) || !(t1 >= t0))
+        return 0;
+    const double *ax[2] = {a->frame.x, a->frame.y};
+    for (int d = 0; d < 2; d++) {
+        /* parameter d along the conic: const + A cos t + B sin t */
+        double A = c->r1 * cb_vec3_dot(c->frame.x, ax[d]);
+        double B = c->r2 * cb_vec3_dot(c->frame.y, ax[d]);
+        double ts = atan2(B, A);
+        for (int k = -2; k <= 3; k++) {
+            double t = ts + k * CB_SSI_PI;
+            if (t < t0 || t > t1)
+                continue;
+            double X[3], uv[2];
+            cb_topo_curve_eval(X, c, t);
+            _cb_ssi_analytic_invert(uv, a, X);
+            lo[d] = fmin(lo[d], uv[d]);
+            hi[d] = fmax(hi[d], uv[d]);
+        }
+    }
+    return 1;
+}
+
 /* A face whose surface the driver converted to a rational B-spline for the SSI. */
 typedef struct {
     int on;                   /* 1: converted; net and range are set */
@@ -150,10 +179,14 @@ static int face_range(double range[4], const face_inv *fi, const cb_topo_body *b
                 have = 1;
             }
             /* The extremes of an arc lie between its samples (a plane face bounded by a
-             * circle of radius r reached r (1 - cos(pi / 16)) beyond them): the edge's
-             * samples' extent is grown by twice its deviation from their chords. Curves are
-             * clipped to this box and trimmed to the face's loops later (boolean/cut.c), so a
-             * box too large costs little. */
+             * circle of radius r reached r (1 - cos(pi / 16)) beyond them). A conic on a
+             * plane has them in closed form (the plane's parameters are affine in space);
+             * any other edge's samples' extent is grown by twice its deviation from their
+             * chords. Curves are clipped to this box and trimmed to the face's loops later
+             * (boolean/cut.c), so a box too large costs little. */
+            const cb_topo_edge *ed = b->edges + b->coedges[c].edge;
+            if (fi->a && conic_on_plane(elo, ehi, fi->a, b->curves + ed->curve, ed->t0, ed->t1))
+                edev[0] = edev[1] = 0;
             for (int d = 0; d < 2; d++)
                 if (periodic[d]) {
                     grow[d] = fmax(grow[d], edev[d]);
