@@ -157,6 +157,10 @@ void cb_bool_cuts_clear(cb_bool_cuts *c);
  * the linear polyline would only to second. out (initialised) is replaced. */
 cb_status cb_bool_cut_curve(cb_topo_curve *out, const cb_bool_cut *c, int side, cb_error *err);
 
+/* The point at position pos (segment index + fraction, clamped to [0, n - 1]) of the curve
+ * cb_bool_cut_curve makes of cut c: x[3] in 3D (side -1), x[2] in the (u, v) of face side. */
+void cb_bool_cut_point(double *x, const cb_bool_cut *c, int side, double pos);
+
 /* Position *pos in [lo, hi] (segment index + fraction) of the point of cut c's polyline
  * nearest p, and its distance from p. The cut's curve (cb_bool_cut_curve) passes through the
  * polyline's points with the position as its parameter. */
@@ -165,11 +169,12 @@ double cb_bool_cut_project(double *pos, const cb_bool_cut *c, const double p[3],
 
 /* The cuts of every curve of r (SSI of A's faces against B's, face indices those of the
  * prepared solids A and B), appended to out. Inside means inside both trimmed faces by the
- * parity of their loops (cb_face_classify_uv); where a curve leaves a face its exit is found
- * by bisection along the polyline segment (points, parameters and positions interpolated
- * linearly, so the exit lies on the face boundary up to the polyline's chord error). A piece
- * shorter than tol (model units, > 0) that is not closed is dropped: a curve that only grazes
- * a corner. Tangents: the cross product of the face normals, or where the faces are tangent
+ * parity of their loops (cb_face_classify_uv) at the curve's points and, where a segment's
+ * chord in (u, v) crosses a face's loops (cb_face_chord_crossings), between the crossings;
+ * where a curve leaves a face its exit is found by bisection along the polyline segment
+ * (points, parameters and positions interpolated linearly, so the exit lies on the face
+ * boundary up to the polyline's chord error). A piece shorter than CB_BOOL_WELD tol (tol in
+ * model units, > 0) that is not closed is dropped: a curve that only grazes a corner. Tangents: the cross product of the face normals, or where the faces are tangent
  * (their normals within 1e-6 rad) the central difference of the points; in (u, v) the least
  * squares solution of J duv = dir (J the surface Jacobian), or the central difference where J
  * is singular (a pole). Cut ends within CB_BOOL_WELD tol of an earlier cut's end are moved

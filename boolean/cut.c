@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "brep/geom.h"
 #include "brep/parallel.h"
 
 int _cb_cut_run_push(cut_run *r, const cut_pt *p)
@@ -287,6 +288,18 @@ static void refine_pt(cut_pt *m, const cut_ctx *cx, const double t[3], double re
     }
 }
 
+/* b with every periodic parameter moved by whole periods next to a's, so that the points
+ * between the two are interpolated in one lift: interpolating from 0 to nearly a period
+ * would run across the other side of the surface, where Newton then lands on another sheet
+ * of the curve. */
+static void unwrap_next(cut_pt *b, const cut_ctx *cx, const cut_pt *a)
+{
+    for (int s = 0; s < 2; s++)
+        for (int d = 0; d < 2; d++)
+            if (cx->P[s][d] > 0)
+                b->uv[s][d] += cx->P[s][d] * nearbyint((a->uv[s][d] - b->uv[s][d]) / cx->P[s][d]);
+}
+
 /* Bisection on the curve between a (where before(a) holds) and b (where it does not): the
  * midpoints are moved onto the curve (refine_pt) while the step is long enough for the chord
  * to stray, then halved until a thousandth of the tolerance. Returns the last point where
@@ -361,14 +374,8 @@ static int find_cross(const cut_ctx *cx, const cut_pt *a, const cut_pt *b, cut_p
     if (cs < 0)
         return 0;
     double P = cx->P[cs][cd], lo = cx->lo[cs][cd];
-    /* b unwrapped next to a in every periodic parameter, so that the points between are
-     * interpolated in one lift (both faces may cross a seam on the same step) */
-    cut_pt bu = *b;
-    for (int s = 0; s < 2; s++)
-        for (int d = 0; d < 2; d++)
-            if (cx->P[s][d] > 0)
-                bu.uv[s][d] += cx->P[s][d] *
-                               nearbyint((a->uv[s][d] - bu.uv[s][d]) / cx->P[s][d]);
+    cut_pt bu = *b; /* both faces may cross a seam on the same step */
+    unwrap_next(&bu, cx, a);
     int up = bu.uv[cs][cd] > a->uv[cs][cd]; /* the step runs up across the upper end */
     cross_arg ca = {cs, cd, up ? lo + P : lo, up};
     bisect_on_curve(before, cx, a, &bu, short_of_end, &ca);
@@ -408,10 +415,79 @@ static int pole_split(const cut_ctx *cx, const cut_run *r, int i, cut_pt *before
     return 0;
 }
 
+/* The unit tangent of the curve at point i of run r as seen from the side of step (-1: the
+ * points before it, 1: after): the cross product of the faces' normals a thousandth of the
+ * way towards the nearest point on that side not at i (on that side of a knot line where a
+ * B-spline surface is only C0; the SSI may repeat a point there), oriented along the run. 0
+ * where the faces are tangent there (no direction) or no such point exists. */
+static int side_tangent(double t[3], const cut_ctx *cx, const cut_run *r, int i, int step)
+{
+    int j = i + step;
+    for (;; j += step) {
+        if (j < 0 || j >= r->n)
+            return 0;
+        double e[3];
+        for (int k = 0; k < 3; k++)
+            e[k] = r->p[j].xyz[k] - r->p[i].xyz[k];
+        if (norm3(e) > 1e-3 * cx->min_len)
+            break;
+    }
+    cut_pt q = r->p[j];
+    unwrap_next(&q, cx, r->p + i);
+    double n[2][3];
+    for (int s = 0; s < 2; s++) {
+        double dd[6][3], uv[2];
+        for (int d = 0; d < 2; d++)
+            uv[d] = r->p[i].uv[s][d] + 1e-3 * (q.uv[s][d] - r->p[i].uv[s][d]);
+        cb_topo_inverter_eval_derivs(dd, &cx->f[s]->inv, uv[0], uv[1]);
+        cb_vec3_cross(n[s], dd[1], dd[2]);
+    }
+    cb_vec3_cross(t, n[0], n[1]);
+    double l = norm3(t), ch[3];
+    if (!(l > 1e-3 * norm3(n[0]) * norm3(n[1])))
+        return 0;
+    for (int k = 0; k < 3; k++)
+        ch[k] = j > i ? q.xyz[k] - r->p[i].xyz[k] : r->p[i].xyz[k] - q.xyz[k];
+    double sg = cb_vec3_dot(t, ch) < 0 ? -1 : 1;
+    for (int k = 0; k < 3; k++)
+        t[k] *= sg / l;
+    return 1;
+}
+
+/* 1 when the curve has a corner at interior point i of run r: where it crosses a crease of
+ * a face (a knot line where a B-spline surface is only C0, an edge of a polyline extruded),
+ * the intersection curve turns there (by less than 0.9 pi). The cut's curve is G1 at its points (cb_bool_cut_curve),
+ * so across a corner its cubics would bulge off the surfaces by about a quarter of the turn
+ * times the step: split there (before = after = the point) when that would exceed a tenth of
+ * the tolerance. */
+static int kink_split(const cut_ctx *cx, const cut_run *r, int i, cut_pt *before, cut_pt *after)
+{
+    if (i <= 0 || i + 1 >= r->n)
+        return 0;
+    double tl[3], tr[3];
+    if (!side_tangent(tl, cx, r, i, -1) || !side_tangent(tr, cx, r, i, 1))
+        return 0;
+    double c[3], step = 0;
+    cb_vec3_cross(c, tl, tr);
+    double turn = atan2(norm3(c), cb_vec3_dot(tl, tr));
+    for (int j = i - 1; j <= i; j++) {
+        double e[3];
+        for (int k = 0; k < 3; k++)
+            e[k] = r->p[j + 1].xyz[k] - r->p[j].xyz[k];
+        step = fmax(step, norm3(e));
+    }
+    /* Near a half turn the polyline doubles back on itself (the SSI's points out of order
+     * for a step), which a split would only cut into slivers. */
+    if (!(turn > 1e-3 && turn < 0.9 * CB_SSI_PI && 0.25 * turn * step > 0.1 * cx->min_len))
+        return 0;
+    *before = *after = r->p[i];
+    return 1;
+}
+
 /* Wraps the periodic parameters of run r into the faces' windows and splits it where a lift
  * jumps (the curve crosses a window's end, the seam of a face spanning a whole period) and
- * where it passes over a pole (pole_split). A closed run with a split is first rotated to
- * start and end there. Emits the pieces. */
+ * where it passes over a pole (pole_split) or turns a corner (kink_split). A closed run with a
+ * split is first rotated to start and end there. Emits the pieces. */
 cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cut_ctx *cx,
                              const cb_ssi_curve *c, int curve, cb_error *err)
 {
@@ -446,7 +522,8 @@ cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cu
     cut_pt before, after;
     int first = -1, at_pole = 0;
     for (int i = 0; i + 1 < r->n && first < 0; i++)
-        if ((at_pole = pole_split(cx, r, i, &before, &after)) ||
+        if ((at_pole = pole_split(cx, r, i, &before, &after) ||
+                       kink_split(cx, r, i, &before, &after)) ||
             find_cross(cx, r->p + i, r->p + i + 1, &before, &after))
             first = i;
     if (first < 0)
@@ -455,7 +532,8 @@ cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cu
     int fail = 0;
     if (closed) {
         /* From the split round to it: after, p[first + 1 ..], p[1 .. first], before (the
-         * last point repeats the first; at a pole, p[first] is before and after). */
+         * last point repeats the first; at a pole or a corner, p[first] is before and
+         * after). */
         fail |= _cb_cut_run_push(&rot, &after);
         for (int i = first + 1; i < r->n; i++)
             fail |= _cb_cut_run_push(&rot, r->p + i);
@@ -466,7 +544,7 @@ cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cu
     }
     cb_status st = CB_OK;
     for (int i = 0; i < r->n && !fail && !st; i++) {
-        if (pole_split(cx, r, i, &before, &after)) {
+        if (pole_split(cx, r, i, &before, &after) || kink_split(cx, r, i, &before, &after)) {
             fail |= _cb_cut_run_push(&piece, &before);
             if (!fail && length_over(&piece, 0.1 * cx->min_len))
                 st = emit(out, &piece, c, curve, 0, 1e-6 * cx->min_len, cx->f, err);
@@ -526,7 +604,92 @@ static int inside_pred(const cut_ctx *cx, const cut_pt *p, const void *arg)
 static void exit_point(cut_pt *out, const cut_ctx *cx, const cut_pt *a, const cut_pt *b,
                        double cls_tol)
 {
-    bisect_on_curve(out, cx, a, b, inside_pred, &cls_tol);
+    cut_pt bu = *b;
+    unwrap_next(&bu, cx, a);
+    bisect_on_curve(out, cx, a, &bu, inside_pred, &cls_tol);
+}
+
+static int cmp_double(const void *x, const void *y)
+{
+    double a = *(const double *)x, b = *(const double *)y;
+    return (a > b) - (a < b);
+}
+
+/* Classifying the curve's points alone misses a stretch inside both faces that lies between
+ * two points each outside one of them (a line from the SSI's closed forms has points as far
+ * apart as it likes: one outside A's hole, the next beyond B's rim), and a dip out of a face
+ * between two inside points. So where a step's chord in either face's (u, v) crosses that
+ * face's loops (cb_face_chord_crossings), a point is added (moved onto the curve: refine_pt)
+ * between every two successive crossings, which the walk in cb_bool_cuts_make then
+ * classifies, the exits being bisected as usual. (The chord in (u, v) is not the curve's
+ * image: a stretch narrower than that chord error may still be missed.) added[i] (allocated)
+ * marks the points added. *pts (n points, replaced) keeps its first and last points. Returns -1
+ * when out of memory. */
+static int add_crossing_points(cut_pt **pts, char **added, int *n, const cut_ctx *cx)
+{
+    cut_pt *p = *pts, *out = NULL;
+    char *add = NULL;
+    int m = 0, cap = 0, nt = 0, tcap = 0, fail = 0;
+    double *t = NULL;
+    for (int i = 0; i < *n && !fail; i++) {
+        int extra = 0;
+        cut_pt bu;
+        if (i + 1 < *n) {
+            bu = p[i + 1];
+            unwrap_next(&bu, cx, p + i);
+            nt = 0;
+            for (int s = 0; s < 2 && !fail; s++)
+                fail = cb_face_chord_crossings(&t, &nt, &tcap, cx->f[s], p[i].uv[s], bu.uv[s])
+                           ? -1
+                           : 0;
+            if (nt >= 2) {
+                qsort(t, (size_t)nt, sizeof *t, cmp_double);
+                extra = nt - 1;
+            }
+        }
+        if (m + 1 + extra > cap) {
+            int c = 2 * (m + 1 + extra) + 16;
+            cut_pt *q = realloc(out, (size_t)c * sizeof *q);
+            char *a = q ? realloc(add, (size_t)c) : NULL;
+            if (q)
+                out = q;
+            if (!a) {
+                fail = -1;
+                break;
+            }
+            add = a;
+            cap = c;
+        }
+        add[m] = 0;
+        out[m++] = p[i];
+        if (!extra)
+            continue;
+        double ch[3];
+        for (int k = 0; k < 3; k++)
+            ch[k] = bu.xyz[k] - p[i].xyz[k];
+        double L = norm3(ch);
+        for (int k = 0; k < 3 && L > 0; k++)
+            ch[k] /= L;
+        for (int j = 0; j + 1 < nt; j++) {
+            if (!(t[j + 1] - t[j] > 1e-9))
+                continue; /* one crossing counted twice (a polygon vertex) */
+            lerp_pt(out + m, p + i, &bu, 0.5 * (t[j] + t[j + 1]));
+            if (L > 1e-2 * cx->min_len)
+                refine_pt(out + m, cx, ch, L);
+            add[m++] = 1;
+        }
+    }
+    free(t);
+    if (fail) {
+        free(out);
+        free(add);
+        return -1;
+    }
+    free(p);
+    *pts = out;
+    *added = add;
+    *n = m;
+    return 0;
 }
 
 /* Central (one-sided at open ends, wrapping at closed ones) difference at point i of the
@@ -579,9 +742,15 @@ static void tangents(cb_bool_cut *k, const cb_face *const f[2])
     for (int i = 0; i < k->n; i++) {
         double d[6][2][3], n[2][3], chord[3], len;
         difference(chord, &len, k, k->xyz, 3, i);
-        for (int s = 0; s < 2; s++)
-            surface_normal(n[s], d[1][s], d[2][s], &f[s]->inv, k->uv[s][2 * i],
-                           k->uv[s][2 * i + 1]);
+        /* The end of an open cut may lie on a crease of a face (it was split there:
+         * kink_split): its normals are taken a thousandth of the way towards its neighbour,
+         * on the cut's side. */
+        int nb = k->closed ? i : (i == 0 ? 1 : (i == k->n - 1 ? k->n - 2 : i));
+        for (int s = 0; s < 2; s++) {
+            const double *a = k->uv[s] + 2 * i, *z = k->uv[s] + 2 * nb;
+            surface_normal(n[s], d[1][s], d[2][s], &f[s]->inv, a[0] + 1e-3 * (z[0] - a[0]),
+                           a[1] + 1e-3 * (z[1] - a[1]));
+        }
         double t[3] = {n[0][1] * n[1][2] - n[0][2] * n[1][1], n[0][2] * n[1][0] - n[0][0] * n[1][2],
                        n[0][0] * n[1][1] - n[0][1] * n[1][0]};
         double tl = norm3(t), cl = norm3(chord);
@@ -654,11 +823,44 @@ double cb_bool_cut_project(double *pos, const cb_bool_cut *c, const double p[3],
     return sqrt(best);
 }
 
-cb_status cb_bool_cut_curve(cb_topo_curve *out, const cb_bool_cut *c, int side, cb_error *err)
+/* The Bezier control points of segment i of cut c's curve (cb_bool_cut_curve) in 3D (side
+ * -1) or in face side's (u, v): the cubic Hermite arc with the points' tangents, scaled by a
+ * third of the segment's 3D chord. */
+static void seg_ctrl(double P[4][3], const cb_bool_cut *c, int side, int i)
 {
-    int dim = side < 0 ? 3 : 2, m = 3 * (c->n - 1) + 1;
+    int dim = side < 0 ? 3 : 2;
     const double *pts = side < 0 ? c->xyz : c->uv[side];
     const double *tan = side < 0 ? c->dir : c->duv[side];
+    double e[3];
+    for (int j = 0; j < 3; j++)
+        e[j] = c->xyz[3 * (i + 1) + j] - c->xyz[3 * i + j];
+    double L = norm3(e) / 3;
+    memset(P, 0, 4 * sizeof P[0]);
+    for (int j = 0; j < dim; j++) {
+        P[0][j] = pts[dim * i + j];
+        P[1][j] = pts[dim * i + j] + L * tan[dim * i + j];
+        P[2][j] = pts[dim * (i + 1) + j] - L * tan[dim * (i + 1) + j];
+        P[3][j] = pts[dim * (i + 1) + j];
+    }
+}
+
+void cb_bool_cut_point(double *x, const cb_bool_cut *c, int side, double pos)
+{
+    int dim = side < 0 ? 3 : 2;
+    pos = fmin(fmax(pos, 0), c->n - 1);
+    int i = (int)floor(pos);
+    if (i > c->n - 2)
+        i = c->n - 2;
+    double t = pos - i, s = 1 - t, P[4][3];
+    seg_ctrl(P, c, side, i);
+    for (int j = 0; j < dim; j++)
+        x[j] = s * s * s * P[0][j] + 3 * s * s * t * P[1][j] + 3 * s * t * t * P[2][j] +
+               t * t * t * P[3][j];
+}
+
+cb_status cb_bool_cut_curve(cb_topo_curve *out, const cb_bool_cut *c, int side, cb_error *err)
+{
+    int m = 3 * (c->n - 1) + 1;
     double *P = calloc((size_t)m * 3, sizeof(double));
     double *K = malloc((size_t)(m + 4) * sizeof(double));
     if (!P || !K) {
@@ -667,16 +869,9 @@ cb_status cb_bool_cut_curve(cb_topo_curve *out, const cb_bool_cut *c, int side, 
         return cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
     }
     for (int i = 0; i + 1 < c->n; i++) {
-        double e[3];
-        for (int j = 0; j < 3; j++)
-            e[j] = c->xyz[3 * (i + 1) + j] - c->xyz[3 * i + j];
-        double L = norm3(e) / 3;
-        for (int j = 0; j < dim; j++) {
-            P[3 * (3 * i) + j] = pts[dim * i + j];
-            P[3 * (3 * i + 1) + j] = pts[dim * i + j] + L * tan[dim * i + j];
-            P[3 * (3 * i + 2) + j] = pts[dim * (i + 1) + j] - L * tan[dim * (i + 1) + j];
-            P[3 * (3 * i + 3) + j] = pts[dim * (i + 1) + j];
-        }
+        double B[4][3];
+        seg_ctrl(B, c, side, i);
+        memcpy(P + 3 * (3 * i), B, sizeof B);
     }
     /* Knots: 0 four times, every inner position three times, n - 1 four times. */
     int j = 0;
@@ -789,6 +984,14 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
         }
         for (int s = 0; s < 2; s++)
             cb_topo_settle_poles(pts[0].uv[s], sizeof *pts, n, &cx.f[s]->inv);
+        char *in2 = NULL, *added = NULL;
+        if (add_crossing_points(&pts, &added, &n, &cx) || !(in2 = realloc(in, (size_t)n))) {
+            free(pts);
+            free(in);
+            free(added);
+            return cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
+        }
+        in = in2;
         for (int i = 0; i < n; i++) {
             in[i] = (char)inside_both(&cx, pts + i, cls_tol);
             n_in += in[i];
@@ -808,6 +1011,12 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
             int start = c->closed ? first_out : 0, steps = c->closed ? n - 1 : n;
             int prev_in = 0;
             const cut_pt *prev = NULL;
+            /* A run of points all added between the curve's own (add_crossing_points) and
+             * shorter than the weld distance is a graze of a corner the SSI's points did not
+             * see: its piece would weld into a point on one face and leave a sliver region
+             * on the other. */
+            int own = 0;
+            double graze = CB_BOOL_WELD * tol;
             for (int j = 0; j <= steps && !st; j++) {
                 if (!c->closed && j == steps)
                     break;
@@ -821,24 +1030,27 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
                 }
                 if (in[i] && !st && _cb_cut_run_push(&run, p))
                     st = cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
+                own |= in[i] && !added[i];
                 if (!in[i] && prev_in && !st) {
                     cut_pt x;
                     exit_point(&x, &cx, prev, p, cls_tol);
                     if (_cb_cut_run_push(&run, &x))
                         st = cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
-                    else if (run.n >= 2)
+                    else if (run.n >= 2 && (own || length_over(&run, graze)))
                         st = _cb_cut_split_emit(out, &run, 0, &cx, c, (int)k, err);
                     run.n = 0;
+                    own = 0;
                 }
                 prev_in = in[i];
                 prev = p;
             }
-            if (!st && run.n >= 2)
+            if (!st && run.n >= 2 && (own || length_over(&run, graze)))
                 st = _cb_cut_split_emit(out, &run, 0, &cx, c, (int)k, err);
         }
         free(run.p);
         free(pts);
         free(in);
+        free(added);
     }
     if (!st)
         st = _cb_cuts_imprint(out, r, A, B, tol, err);

@@ -284,7 +284,8 @@ static cb_status add_coedge(builder *bd, int loop, const op_region *r, const op_
         bd->cap_mid = cap;
     }
     /* A cut piece on the curve it was made from takes the cut's pcurve (the same
-     * parameter); any other piece gets one computed later, lifted to its middle. */
+     * parameter), a piece of the face's own edge that edge's pcurve (copied, lifted to the
+     * piece's middle); any other piece gets one computed later, lifted likewise. */
     int cut_pcurve = g.cut && own_curve;
     if (cut_pcurve)
         bd->mid_uv[2 * co] = bd->mid_uv[2 * co + 1] = NAN;
@@ -299,6 +300,18 @@ static cb_status add_coedge(builder *bd, int loop, const op_region *r, const op_
         if (pc < 0)
             return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
         cb_status st = cb_bool_cut_curve(b->pcurves + pc, cuts->cut + s->index, r->side, err);
+        if (st)
+            return st;
+        b->coedges[co].pcurve = pc;
+    } else if (!g.cut && own_curve && X->coedges[s->index].pcurve >= 0) {
+        /* A piece of one of the face's own edges, on that edge's curve: the edge's pcurve
+         * holds it exactly (over the part the coedge uses, cb_topo_coedge_pcurve_range);
+         * fitting one again by inversion can fail near a crease of the surface. Lifted to
+         * the piece's middle like a computed one. */
+        int pc = cb_topo_body_add_pcurve(b);
+        if (pc < 0)
+            return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+        cb_status st = copy_curve(b->pcurves + pc, X->pcurves + X->coedges[s->index].pcurve, err);
         if (st)
             return st;
         b->coedges[co].pcurve = pc;
@@ -337,10 +350,12 @@ static cb_status lift_pcurves(builder *bd, cb_error *err)
                 const double *target = bd->mid_uv + 2 * c;
                 if (isnan(target[0]) || b->coedges[c].pcurve < 0)
                     continue;
-                const cb_topo_edge *e = b->edges + b->coedges[c].edge;
                 cb_topo_curve *pc = b->pcurves + b->coedges[c].pcurve;
-                double q[3], d[2] = {0, 0};
-                cb_topo_pcurve_eval(q, pc, 0.5 * (e->t0 + e->t1));
+                double q[3], d[2] = {0, 0}, s0, s1;
+                /* the part the coedge uses: a copied pcurve from a file may be
+                 * parameterised otherwise than the edge */
+                cb_topo_coedge_pcurve_range(&s0, &s1, b, c, &inv, b->tol);
+                cb_topo_pcurve_eval(q, pc, 0.5 * (s0 + s1));
                 for (int k = 0; k < 2; k++)
                     if (inv.lift[k] > 0)
                         d[k] = inv.lift[k] * nearbyint((target[k] - q[k]) / inv.lift[k]);
@@ -686,6 +701,18 @@ cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, op_face *faces, int
                         st = add_coedge(&bd, lp, r, r->pieces + k, X, cuts, &inv, err);
                 b->loops[lp].count = b->n_coedges - b->loops[lp].first;
                 b->faces[f].count++;
+            }
+            int empty = !st;
+            for (int l = b->faces[f].first; l < b->faces[f].first + b->faces[f].count && empty; l++)
+                empty = b->loops[l].count == 0;
+            if (empty) {
+                /* Every piece of the region welded into a point (a sliver between a cut and the
+                 * boundary, narrower than the weld distance): no face. The other side's pieces
+                 * along it weld into the same points. */
+                b->n_loops = b->faces[f].first;
+                b->n_faces--;
+                cb_topo_surface_clear(b->surfaces + sf);
+                b->n_surfaces--;
             }
         }
         cb_topo_inverter_clear(&inv);

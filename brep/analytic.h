@@ -187,6 +187,38 @@ cb_status cb_nurbs_curve_arc(cb_nurbs_curve_t c, const double center[3], const d
                              const double ydir[3], double radius, double a0, double a1,
                              cb_error *err);
 
+/* The same arc with exact data where its range allows it, as cb_analytic_to_nurbs_exact
+ * writes the angular directions: segments that are quarter turns from one whole quarter angle
+ * to the next get the unit arc's control points 0, +-1, +-2 and weights 1, 1, 2 (times powers
+ * of 2), the tangent-half-angle form; other ranges as cb_nurbs_curve_arc. The B-spline
+ * parameter equals t at the knots only (cb_nurbs_arc_angle maps it to t). Same checks. */
+cb_status cb_nurbs_curve_arc_exact(cb_nurbs_curve_t c, const double center[3],
+                                   const double xdir[3], const double ydir[3], double radius,
+                                   double a0, double a1, cb_error *err);
+
+/* The angle t of the point at B-spline parameter s of the arc that cb_nurbs_curve_arc (exact
+ * = 0) or cb_nurbs_curve_arc_exact (exact = 1) builds over [a0, a1], and likewise of every
+ * angular direction of cb_analytic_to_nurbs(_exact) and cb_nurbs_surface_revolve: closed form
+ * (the rational Bezier segment evaluated at s, its angle from the segment's first point by
+ * atan2). Continuous and strictly increasing from [a0, a1] onto [a0, a1], equal to s at the
+ * knots, so it maps the B-spline's parameters bijectively onto the angles. s outside [a0, a1]
+ * is clamped to it. */
+double cb_nurbs_arc_angle(double a0, double a1, int exact, double s);
+
+/* The surface swept by turning the curve profile by the angles u in [a0, a1] (at most one
+ * turn) about the axis through o along the unit vector z: S(u, v) = profile(v) turned by u,
+ * as an exact rational B-spline of degree (2, profile degree). u is the arc of
+ * cb_nurbs_curve_arc (exact = 0) or cb_nurbs_curve_arc_exact (exact = 1) over [a0, a1] (the
+ * angle at the knots, cb_nurbs_arc_angle between them), v the profile's own parameter and
+ * knots. The profile need not be planar nor lie in a plane through the axis: turning is affine
+ * in (cos u, sin u), so the control net is the unit arc's applied to each profile point, and
+ * the weights multiply (The NURBS Book A8.1). Profile points on the axis give collapsed rows
+ * (poles). Rejects a non-finite axis, |z| not 1 within 1e-12, and angle ranges as
+ * cb_nurbs_curve_arc. */
+cb_status cb_nurbs_surface_revolve(cb_nurbs_surface_t out, const cb_nurbs_curve_t profile,
+                                   const double o[3], const double z[3], double a0, double a1,
+                                   int exact, cb_error *err);
+
 /* The parabola arc t -> vertex + focal (t^2 xdir + 2 t ydir), t in [t0, t1] (ISO 10303-42's
  * PARABOLA with focal distance focal), as one quadratic Bezier segment with knots
  * (t0, t0, t0, t1, t1, t1): a parabola is a polynomial curve, so the B-spline parameter equals t

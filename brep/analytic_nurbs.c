@@ -98,9 +98,9 @@ static cb_status check_angle_range(double a, double b, const char *what, cb_erro
     return st;
 }
 
-cb_status cb_nurbs_curve_arc(cb_nurbs_curve_t c, const double center[3], const double xdir[3],
-                             const double ydir[3], double radius, double a0, double a1,
-                             cb_error *err)
+static cb_status arc(cb_nurbs_curve_t c, const double center[3], const double xdir[3],
+                     const double ydir[3], double radius, double a0, double a1, int exact,
+                     cb_error *err)
 {
     for (int i = 0; i < 3; i++)
         if (!isfinite(center[i]) || !isfinite(xdir[i]) || !isfinite(ydir[i]))
@@ -119,7 +119,7 @@ cb_status cb_nurbs_curve_arc(cb_nurbs_curve_t c, const double center[3], const d
     if (st)
         return st;
     double xy[ARC_MAX_POINTS][2], w[ARC_MAX_POINTS], knots[ARC_MAX_POINTS + 3];
-    int n = unit_arc(xy, w, knots, a0, a1, 0);
+    int n = unit_arc(xy, w, knots, a0, a1, exact);
     int np = 2 * n + 1;
     cb_nurbs_curve_t t;
     cb_nurbs_curve_init(t);
@@ -134,6 +134,100 @@ cb_status cb_nurbs_curve_arc(cb_nurbs_curve_t c, const double center[3], const d
     }
     cb_nurbs_curve_swap(c, t);
     cb_nurbs_curve_clear(t);
+    return CB_OK;
+}
+
+cb_status cb_nurbs_curve_arc(cb_nurbs_curve_t c, const double center[3], const double xdir[3],
+                             const double ydir[3], double radius, double a0, double a1,
+                             cb_error *err)
+{
+    return arc(c, center, xdir, ydir, radius, a0, a1, 0, err);
+}
+
+cb_status cb_nurbs_curve_arc_exact(cb_nurbs_curve_t c, const double center[3],
+                                   const double xdir[3], const double ydir[3], double radius,
+                                   double a0, double a1, cb_error *err)
+{
+    return arc(c, center, xdir, ydir, radius, a0, a1, 1, err);
+}
+
+double cb_nurbs_arc_angle(double a0, double a1, int exact, double t)
+{
+    if (!(a0 < a1) || !(t > a0))
+        return a0;
+    if (t >= a1)
+        return a1;
+    double xy[ARC_MAX_POINTS][2], w[ARC_MAX_POINTS], knots[ARC_MAX_POINTS + 3];
+    int n = unit_arc(xy, w, knots, a0, a1, exact), k = 0;
+    /* segment k spans knots[2k + 2] .. knots[2k + 3] (the interior knots are doubled) */
+    while (k + 1 < n && t >= knots[2 * k + 3])
+        k++;
+    double t0 = knots[2 * k + 2], t1 = knots[2 * k + 3];
+    if (t <= t0)
+        return t0;
+    if (t >= t1)
+        return t1;
+    double s = (t - t0) / (t1 - t0), b[3] = {(1 - s) * (1 - s), 2 * s * (1 - s), s * s};
+    double p[2] = {0, 0}, W = 0;
+    for (int i = 0; i < 3; i++) {
+        const double *q = xy[2 * k + i];
+        p[0] += b[i] * w[2 * k + i] * q[0];
+        p[1] += b[i] * w[2 * k + i] * q[1];
+        W += b[i] * w[2 * k + i];
+    }
+    /* The angle from the segment's first point, which lies at angle t0 (at most a quarter
+     * turn away, so atan2 needs no lifting); the division by W > 0 does not change it. */
+    const double *q0 = xy[2 * k];
+    double phi = atan2(q0[0] * p[1] - q0[1] * p[0], q0[0] * p[0] + q0[1] * p[1]);
+    return fmin(fmax(t0 + phi, t0), t1);
+}
+
+cb_status cb_nurbs_surface_revolve(cb_nurbs_surface_t out, const cb_nurbs_curve_t profile,
+                                   const double o[3], const double z[3], double a0, double a1,
+                                   int exact, cb_error *err)
+{
+    double zn = cb_vec3_norm(z);
+    for (int i = 0; i < 3; i++)
+        if (!isfinite(o[i]) || !isfinite(z[i]))
+            return cb_error_set(err, CB_ERR_INVALID,
+                                "revolve: axis point or direction not finite (coordinate %c)",
+                                "xyz"[i]);
+    if (!(fabs(zn - 1.0) <= 1e-12))
+        return cb_error_set(err, CB_ERR_INVALID,
+                            "revolve: axis direction of length %.17g is not a unit vector", zn);
+    cb_status st = check_angle_range(a0, a1, "revolve: angle", err);
+    if (st)
+        return st;
+    double xy[ARC_MAX_POINTS][2], w[ARC_MAX_POINTS], knots[ARC_MAX_POINTS + 3];
+    int nu = 2 * unit_arc(xy, w, knots, a0, a1, exact) + 1, p = profile->deg, nv = profile->n;
+    cb_nurbs_surface_t t;
+    cb_nurbs_surface_init(t);
+    if ((st = cb_nurbs_surface_alloc(t, 2, p, nu, nv, err)))
+        return st;
+    memcpy(t->knots_u, knots, (size_t)(nu + 3) * sizeof *knots);
+    memcpy(t->knots_v, profile->knots, (size_t)(nv + p + 1) * sizeof *knots);
+    /* A point q turned by the angle u about the axis is o + h z + cos u r + sin u (z x r), r
+     * the part of q - o across the axis and h its height: affine in (cos u, sin u), so the
+     * unit arc's control points (x, y) give the turned profile's, and the weights multiply
+     * (The NURBS Book A8.1, any profile, planar or not). */
+    for (int j = 0; j < nv; j++) {
+        const double *pw = profile->cw + 4 * j;
+        double wj = pw[3], q[3], r[3], zr[3];
+        for (int i = 0; i < 3; i++)
+            q[i] = pw[i] / wj - o[i];
+        double h = cb_vec3_dot(q, z);
+        for (int i = 0; i < 3; i++)
+            r[i] = q[i] - h * z[i];
+        cb_vec3_cross(zr, z, r);
+        for (int i = 0; i < nu; i++) {
+            double *cw = cb_nurbs_surface_cw(t, i, j), wt = w[i] * wj;
+            for (int k = 0; k < 3; k++)
+                cw[k] = wt * (o[k] + h * z[k] + xy[i][0] * r[k] + xy[i][1] * zr[k]);
+            cw[3] = wt;
+        }
+    }
+    cb_nurbs_surface_swap(out, t);
+    cb_nurbs_surface_clear(t);
     return CB_OK;
 }
 

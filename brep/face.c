@@ -444,6 +444,100 @@ static int piece_cross(const cb_face *f, const cb_face_seg *sg, double s0, doubl
            piece_cross(f, sg, sm, s1, m, q, d2, x, y, depth + 1);
 }
 
+/* Where the chord a b crosses the straight segment p q: its fraction along a b in (0, 1), or
+ * -1 when it does not (or they are parallel). */
+static double chord_hit(const double a[2], const double b[2], const double p[2],
+                        const double q[2])
+{
+    double e[2] = {b[0] - a[0], b[1] - a[1]}, g[2] = {q[0] - p[0], q[1] - p[1]};
+    double den = e[0] * g[1] - e[1] * g[0];
+    if (!(fabs(den) > 0))
+        return -1;
+    double w[2] = {p[0] - a[0], p[1] - a[1]};
+    double x = (w[0] * g[1] - w[1] * g[0]) / den, y = (w[0] * e[1] - w[1] * e[0]) / den;
+    return x > 0 && x < 1 && y >= 0 && y <= 1 ? x : -1;
+}
+
+typedef struct {
+    double **t;
+    int *n, *cap;
+} hit_list;
+
+static cb_status push_hit(hit_list *h, double x)
+{
+    if (*h->n == *h->cap) {
+        int c = *h->cap ? 2 * *h->cap : 16;
+        double *q = realloc(*h->t, (size_t)c * sizeof *q);
+        if (!q)
+            return CB_ERR_NOMEM;
+        *h->t = q;
+        *h->cap = c;
+    }
+    (*h->t)[(*h->n)++] = x;
+    return CB_OK;
+}
+
+/* Crossings of the chord a b by the pcurve piece [s0, s1] of sg, whose chord p q it stays
+ * within dev of: none where the band cannot reach the chord, the chords' crossing where the
+ * piece is straight enough, else the halves' (piece_cross's bisection). */
+static cb_status piece_hits(hit_list *h, const cb_face *f, const cb_face_seg *sg, double s0,
+                            double s1, const double p[2], const double q[2], double dev,
+                            const double a[2], const double b[2], int depth)
+{
+    double x = chord_hit(a, b, p, q);
+    if (x < 0 && fmin(fmin(seg_dist(a, p, q), seg_dist(b, p, q)),
+                      fmin(seg_dist(p, a, b), seg_dist(q, a, b))) > dev)
+        return CB_OK;
+    if (sg->coedge < 0 || depth >= MAX_QUERY_DEPTH ||
+        dev <= 1e-15 * (fabs(p[0]) + fabs(p[1]) + fabs(q[0]) + fabs(q[1]) + 1))
+        return x < 0 ? CB_OK : push_hit(h, x);
+    const cb_topo_curve *pc = &f->b->pcurves[f->b->coedges[sg->coedge].pcurve];
+    double sm = 0.5 * (s0 + s1), m[2], w1[2], w2[2];
+    pc_point(m, pc, sm, sg->shift);
+    pc_point(w1, pc, 0.5 * (s0 + sm), sg->shift);
+    pc_point(w2, pc, 0.5 * (sm + s1), sg->shift);
+    double d1 = fmax(0.25 * dev, 2 * seg_dist(w1, p, m));
+    double d2 = fmax(0.25 * dev, 2 * seg_dist(w2, m, q));
+    cb_status st = piece_hits(h, f, sg, s0, sm, p, m, d1, a, b, depth + 1);
+    return st ? st : piece_hits(h, f, sg, sm, s1, m, q, d2, a, b, depth + 1);
+}
+
+cb_status cb_face_chord_crossings(double **t, int *n, int *cap, const cb_face *f,
+                                  const double a[2], const double b[2])
+{
+    hit_list h = {t, n, cap};
+    double lo[2], hi[2], L[2];
+    for (int d = 0; d < 2; d++) {
+        lo[d] = fmin(a[d], b[d]);
+        hi[d] = fmax(a[d], b[d]);
+        L[d] = f->inv.lift[d];
+    }
+    for (int k = 0; k < f->n_segs; k++) {
+        const cb_face_seg *sg = f->segs + k;
+        int j0[2] = {0, 0}, j1[2] = {0, 0}, skip = 0;
+        for (int d = 0; d < 2 && !skip; d++) {
+            double slo = fmin(sg->p[d], sg->q[d]) - sg->dev;
+            double shi = fmax(sg->p[d], sg->q[d]) + sg->dev;
+            if (L[d] > 0) {
+                /* the lifts j of the chord (moved by j L) that reach the segment's band */
+                j0[d] = (int)ceil((slo - hi[d]) / L[d]);
+                j1[d] = (int)floor((shi - lo[d]) / L[d]);
+                skip = j0[d] > j1[d] || j1[d] - j0[d] > 4;
+            } else {
+                skip = shi < lo[d] || slo > hi[d];
+            }
+        }
+        for (int ju = j0[0]; ju <= j1[0] && !skip; ju++)
+            for (int jv = j0[1]; jv <= j1[1]; jv++) {
+                double A[2] = {a[0] + ju * L[0], a[1] + jv * L[1]};
+                double B[2] = {b[0] + ju * L[0], b[1] + jv * L[1]};
+                if (piece_hits(&h, f, sg, sg->s0, sg->s1, sg->p, sg->q, sg->dev, A, B, 0))
+                    return CB_ERR_NOMEM;
+            }
+    }
+    return CB_OK;
+}
+
 /* Distance from p to face edge fe when it may be within limit, else HUGE_VAL: the stored
  * samples bound it from below, then Newton steps on the squared distance from the nearest
  * point of the sample polyline, clamped to the edge's range; lines and conics also by

@@ -93,6 +93,15 @@ typedef struct {
 cb_status cb_face_init(cb_face *f, const cb_topo_body *b, int face, double tol, cb_error *err);
 void cb_face_clear(cb_face *f);
 
+/* The fractions in (0, 1) at which the straight chord a -> b in (u, v) crosses the face's
+ * loops, every lift of a periodic parameter counted, appended to *t[*n ..] (grown by realloc;
+ * *cap its size). Near the chord the loop polygon is replaced by the exact pcurves, as in the
+ * classification (a segment whose deviation band reaches the chord is bisected on its
+ * pcurve). A chord touching a loop where two segments meet may count that crossing twice.
+ * CB_ERR_NOMEM when out of memory (no message: the caller names where). */
+cb_status cb_face_chord_crossings(double **t, int *n, int *cap, const cb_face *f,
+                                  const double a[2], const double b[2]);
+
 /* Where (u, v) lies: CB_FACE_ON when S(u, v) is within tol (a 3D distance, > 0) plus the
  * edge's off of a boundary edge, else IN or OUT of the trimmed domain. Any lift of a periodic
  * parameter may be given. */

@@ -65,7 +65,8 @@
  * Limits. A loop that wraps around a periodic surface without a seam edge (a cylinder band
  * bounded by two circles only) and a face without loops are refused with CB_ERR_UNSUPPORTED
  * naming the face: brep/prim.h cuts such faces along seams, and the STEP reader gives a whole
- * sphere or torus written without edges its seams (cb_topo_close_faces). Coedges without a pcurve are placed by inverting their samples on the surface, each
+ * sphere or torus written without edges, and band faces, their seams (cb_topo_close_faces).
+ * Coedges without a pcurve are placed by inverting their samples on the surface, each
  * from the previous one, which is right for surfaces without periods; but edge sampling then
  * cannot see the faces' surfaces, so compute pcurves first (cb_topo_compute_pcurves: the
  * hummingbird needs it; STEP import does it).

@@ -112,6 +112,48 @@ double cb_topo_projector_distance(const cb_topo_projector *pr, const double p[3]
 int cb_topo_projector_starts(double (*uv)[2], int max, const cb_topo_projector *pr,
                              const double p[3]);
 
+/* ---------------------------------------------------------------- exact B-spline forms ----- */
+
+/* The curve c over [t0, t1] as an exact rational B-spline: a line as degree 1 through C(t0) and
+ * C(t1) (the B-spline parameter is t); a circle or ellipse (t1 - t0 at most a turn) as the
+ * rational quadratic arc of cb_nurbs_curve_arc, or of cb_nurbs_curve_arc_exact with exact = 1
+ * (the parameter equals t at the knots, cb_topo_curve_nurbs_param maps it); a B-spline as
+ * itself, cut to [t0, t1] where that lies strictly inside its domain (its knots kept: the
+ * parameter is t). Errors: CB_ERR_INVALID for an empty or non-finite range of a line or conic,
+ * a conic range over a turn; CB_ERR_NOMEM. */
+cb_status cb_topo_curve_to_nurbs(cb_nurbs_curve_t out, const cb_topo_curve *c, double t0,
+                                 double t1, int exact, cb_error *err);
+/* The parameter t of c at the parameter s of cb_topo_curve_to_nurbs(c, t0, t1, exact): s
+ * itself, or for a conic cb_nurbs_arc_angle(t0, t1, exact, s). Strictly increasing, onto
+ * [t0, t1]. */
+double cb_topo_curve_nurbs_param(const cb_topo_curve *c, double t0, double t1, int exact,
+                                 double s);
+
+/* The surface s over range = {u0, u1, v0, v1} of its own parameters as an exact rational
+ * B-spline, for an SSI or any routine that takes B-splines only:
+ *   analytic    cb_analytic_to_nurbs (exact = 1: cb_analytic_to_nurbs_exact) over the range;
+ *   B-spline    a copy of the whole surface (range not used);
+ *   revolution  the profile over [v0, v1] (cb_topo_curve_to_nurbs) turned by [u0, u1] (at most
+ *               a turn) about the axis (cb_nurbs_surface_revolve);
+ *   extrusion   the profile over [u0, u1] swept along dir by [v0, v1] (degree 1 in v).
+ * exact = 1 writes arcs that are whole quarter turns from whole quarter angles with weights
+ * 1, 1, 2 (exact in binary, so exact tangencies stay exact); 0 with cos(pi / 4) rounded (the
+ * symmetric form, as CAD systems write circles), whose rows at the two ends of a full turn are
+ * bitwise the same. The image is s's over the range (to rounding of the control points); the
+ * B-spline's parameters map to s's by cb_topo_surface_nurbs_param with the same exact.
+ * Errors: CB_ERR_INVALID for ranges the conversions refuse (empty, unbounded where a line or
+ * plane needs bounds, angles over a turn), naming the profile; CB_ERR_NOMEM. */
+cb_status cb_topo_surface_to_nurbs(cb_nurbs_surface_t out, const cb_topo_surface *s,
+                                   const double range[4], int exact, cb_error *err);
+/* (u, v) of s at the parameters st of cb_topo_surface_to_nurbs(s, range, exact): closed form
+ * per direction (cb_nurbs_arc_angle for the angles of arcs, the identity for lines and
+ * B-spline profiles, which keep their parameter). Each direction is mapped by a continuous,
+ * strictly increasing function of its own parameter onto the range, so the map is a bijection
+ * of the B-spline's domain onto the range that keeps every curve's topology and the order of
+ * points along it; S_nurbs(st) = s(uv). */
+void cb_topo_surface_nurbs_param(double uv[2], const cb_topo_surface *s, const double range[4],
+                                 int exact, const double st[2]);
+
 /* ---------------------------------------------------------------- topology ----------------- */
 
 typedef struct {
@@ -264,6 +306,28 @@ int cb_topo_body_surface_types(const char *names[8], int counts[8], const cb_top
  * face to the left of each coedge when same_sense is 1 (a pcurve computed by inverting a
  * B-spline seam lands a rounding error off the domain's end, which puts the seam's two copies
  * less than a period apart). Appends entities (the incidence index must be rebuilt).
+ * Bands (as Open CASCADE's ShapeFix_Face::FixMissingSeam fixes them): a face whose loops wind
+ * round the period of its surface in one direction w without a seam edge (no edge used twice
+ * by the face): two loops once each in opposite senses (a cylinder, cone, sphere zone or
+ * torus band bounded by two circles), or one loop once with the surface collapsing to a point
+ * on the face's side of it (a cone round its apex, a sphere cap; analytic and turned surfaces
+ * only), every other loop winding round no period. The windings are found by following each
+ * loop on the surface (16 inversions per edge, each next to the previous; a loop through a
+ * pole or apex, where a step jumps by more than a quarter period, is not decided and its face
+ * is left as it is). The face gets a seam: the line of its surface at the start of its domain
+ * in w (where Open CASCADE's FixMissingSeam and brep/prim.h put seams, so the loop spans the
+ * first period) from the first loop across the face to the second loop or the pole (a new
+ * vertex there). A loop without a vertex on that line first gets one: the edge crossing the
+ * line is split there (the crossing bisected on the edge curve), and every coedge of that
+ * edge, in this face or its neighbour, becomes two. The loops become one loop [first loop from its vertex, seam, second
+ * loop from its vertex (or the jump along the pole line), seam reversed], the seam running
+ * across the face from the loop whose side the face lies on (to the left of it in (u, v) when
+ * same_sense is 1); the seam's two coedges get the exact lines of its two copies a period
+ * apart, the loop's other coedges lose their pcurves (computed afterwards, joined to the
+ * seam's). The seams are exact: rulings of cylinders, cones and extrusions, meridians and
+ * parallels of spheres, ellipsoids and tori, the profile and the parallels of revolutions, a
+ * B-spline's boundary column; a face whose seam cannot be made so is left as it was.
+ * Coedges are renumbered by the split and the join (the loops' ranges follow).
  * *closed counts the faces changed (may be NULL). A seam that cannot be made (not expected:
  * the curve found off its surface) leaves its face as it was. Errors: CB_ERR_NOMEM naming the
  * face. */

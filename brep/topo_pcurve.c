@@ -143,10 +143,47 @@ void cb_topo_inverter_eval(double p[3], const cb_topo_inverter *inv, double u, d
     memcpy(p, d[0], sizeof d[0]);
 }
 
+/* The inner knot of direction k of a B-spline surface where it is only C0 (multiplicity >=
+ * degree: a crease, e.g. the corner of an extruded polyline) within 1e-4 of the knot range of
+ * x, in *knot: 1; else 0. */
+static int near_crease(double *knot, const cb_topo_surface *s, int k, double x)
+{
+    if (s->kind != CB_SURFACE_NURBS)
+        return 0;
+    const cb_nurbs_surface_struct *n = s->nurbs;
+    int deg = k ? n->deg_v : n->deg_u, m = (k ? n->n_v : n->n_u) + deg + 1;
+    const double *kn = k ? n->knots_v : n->knots_u;
+    double near = 1e-4 * (kn[m - 1] - kn[0]);
+    for (int i = deg + 1; i < m - deg - 1;) {
+        int j = i;
+        while (j + 1 < m - deg - 1 && kn[j + 1] == kn[i])
+            j++;
+        if (j - i + 1 >= deg && fabs(x - kn[i]) <= near) {
+            *knot = kn[i];
+            return 1;
+        }
+        i = j + 1;
+    }
+    return 0;
+}
+
+static double newton_from(double uv[2], const cb_topo_inverter *inv, const double p[3],
+                          int retry);
+
 /* Newton steps on |S(u, v) - p|^2 / 2 from uv; non-periodic parameters stay in the box and a
  * periodic one moves at most a quarter period per step (so a start near the answer keeps its
  * lift). Leaves the best point met in uv and returns its distance. */
 static double newton(double uv[2], const cb_topo_inverter *inv, const double p[3])
+{
+    return newton_from(uv, inv, p, 1);
+}
+
+/* newton; retry: where it stops short of p at a crease (the derivatives there are those of
+ * one span, which need not lead towards p at all: a start a rounding above the corner of an
+ * extruded polyline cannot move along the face below it), start again just below and just
+ * above it. */
+static double newton_from(double uv[2], const cb_topo_inverter *inv, const double p[3],
+                          int retry)
 {
     double u = uv[0], v = uv[1], best = HUGE_VAL;
     for (int it = 0; it < 40; it++) {
@@ -190,6 +227,22 @@ static double newton(double uv[2], const cb_topo_inverter *inv, const double p[3
         if (moved <= 1e-15 * (cb_vec3_norm(d[0]) + 1.0))
             break;
     }
+    if (retry && best > 1e-9 * (cb_vec3_norm(p) + 1.0))
+        for (int k = 0; k < 2; k++) {
+            double lo = inv->box[2 * k], hi = inv->box[2 * k + 1], knot;
+            if (!near_crease(&knot, inv->s, k, uv[k]) || !(hi > lo))
+                continue;
+            double at[2] = {uv[0], uv[1]};
+            for (int side = -1; side <= 1; side += 2) {
+                double w[2] = {at[0], at[1]};
+                w[k] = knot + side * 1e-6 * (hi - lo);
+                double d = newton_from(w, inv, p, 0);
+                if (d < best) {
+                    best = d;
+                    memcpy(uv, w, sizeof w);
+                }
+            }
+        }
     return best;
 }
 

@@ -22,8 +22,10 @@
  * Entities the mapping does not reach are skipped. A VERTEX_LOOP bound (a pole or an apex
  * inside a face) is skipped too: it carries no edge. A face left with no loop (a whole sphere
  * or torus, written with a VERTEX_LOOP only or with no bound at all) gets the seams and poles
- * of its closed surface (cb_topo_close_faces), and a torus face bounded by its two seams has
- * its loop put in the order the other routines read (ibid.).
+ * of its closed surface (cb_topo_close_faces), a torus face bounded by its two seams has
+ * its loop put in the order the other routines read (ibid.), and a face whose loops wind
+ * round a period of its surface without a seam edge (a cylinder band bounded by two circles,
+ * a cone bounded by one circle round its apex) gets a seam (ibid.).
  *
  * Units: coordinates stay in the file's length unit; body->length_unit_mm gives its size
  * (SI_UNIT with any prefix, or CONVERSION_BASED_UNIT such as INCH). Angles are converted to

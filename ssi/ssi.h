@@ -59,8 +59,15 @@
  * of their normals: exactly (phi = 0, or Q = P reparameterised) or, proved by a rigorous bound,
  * within tol (ssi_coincide.c); samples only choose which pairs try a proof.
  *
+ * Faces of revolution and extrusion (cb_ssi_bodies, ssi_body.c) are intersected as the exact
+ * rational B-splines of their surfaces over the face's parameter box (cb_topo_surface_to_nurbs:
+ * the profile as an exact B-spline, lines, conics as rational quadratics, B-splines as they
+ * are, turned or swept), and the curves' parameters on them mapped back to the face's own
+ * (angle, profile parameter) by closed forms, strictly increasing in each direction
+ * (cb_topo_surface_nurbs_param).
+ *
  * Curves are clipped to the faces' parameter boxes; cb_bool_ssi_trim (boolean/bool.h) clips
- * them to the faces' trimming loops. Not done: surfaces of revolution and extrusion. */
+ * them to the faces' trimming loops. */
 #ifndef CB_SSI_SSI_H
 #define CB_SSI_SSI_H
 
@@ -361,9 +368,17 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
 
 /* Every face of a against every face of b whose boxes overlap (AABB of the surface geometry
  * over the face's parameter box, grown by the tolerance). Analytic faces are bounded by the
- * parameter box of their edges (sampled and inverted); the curves are not clipped to trimming
- * loops. Face pairs that cannot be intersected (revolution, extrusion) are listed in r->failed
- * with patch indices -1. Coincident face pairs get same_face_normal from the faces'
+ * parameter box of their edges (sampled and inverted); faces of revolution and extrusion by
+ * the box of their pcurves (or of their edges inverted, where a coedge has no pcurve reaching
+ * its edge), a B-spline profile by its domain, and intersected as the exact rational B-spline
+ * of their surface over that box (cb_topo_surface_to_nurbs, arcs with cos(pi / 4) rounded):
+ * every parameter the result gives for such a face (curve and isolated points, marks, the
+ * boxes of regions and failures) is mapped back to the face's own surface
+ * (cb_topo_surface_nurbs_param, a bijection of the B-spline's domain onto the box, strictly
+ * increasing in each direction, so a certified topology stays certified), and its patch
+ * indices are -1. The curves are not clipped to trimming loops. Face pairs that cannot be
+ * intersected (a face that could not be bounded or converted) are listed in r->failed with
+ * patch indices -1. Coincident face pairs get same_face_normal from the faces'
  * same_sense. With opts->tol <= 0 the tolerance is 1e-6 times
  * the diagonal of the box of both bodies. Face pairs run in parallel on opts->threads (each
  * serial inside) and are combined in face-pair order. */

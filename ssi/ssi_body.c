@@ -12,33 +12,148 @@
 /* Samples per edge used to bound an analytic face's parameters. */
 #define EDGE_SAMPLES 17
 
-/* The face's surface as an SSI input; an analytic face is bounded by the parameter box of its
- * edges (an angle by the shortest arc holding its samples; a seam, or a span of a whole turn
- * or more, makes it the full turn).
- * Returns 1; 0 for surface kinds the driver does not take; -1 when out of memory. */
-static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
+/* Arcs of converted faces (revolutions, extrusions of conics) with weights cos(pi / 4)
+ * rounded, the symmetric form CAD systems write, not the exact quarter-turn form
+ * (cb_topo_surface_to_nurbs): the torus of revolution cut through its seam plane gave 34
+ * pieces, each stretch along the seam traced from both of its B-spline sides, with the exact
+ * form (end rows 16 times apart), 4 curves with this one (end rows bitwise equal). */
+#define REVOLVE_EXACT 0
+
+/* An angle difference brought into [-pi, pi]. */
+static double turn_diff(double x)
 {
-    const cb_topo_surface *ts = b->surfaces + b->faces[face].surface;
-    if (ts->kind == CB_SURFACE_NURBS) {
-        cb_ssi_surface_set_nurbs(S, ts->nurbs);
-        return 1;
-    }
-    if (ts->kind != CB_SURFACE_ANALYTIC)
+    return x - 2 * CB_SSI_PI * nearbyint(x / (2 * CB_SSI_PI));
+}
+
+/* For a circle or ellipse edge over [t0, t1] on a plane a: widens lo, hi (the plane's
+ * parameters) to the arc's extremes (where the derivative of each parameter vanishes, within
+ * the range) and returns 1; 0 for other curves or surfaces. */
+static int conic_on_plane(double lo[2], double hi[2], const cb_analytic_surface *a,
+                          const cb_topo_curve *c, double t0, double t1)
+{
+    if (a->kind != CB_ANALYTIC_PLANE ||
+        (c->kind != CB_CURVE_CIRCLE && c->kind != CB_CURVE_ELLIPSE) || !(t1 >= t0))
         return 0;
-    const cb_analytic_surface *a = &ts->analytic;
-    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
-    int have = 0, periodic[2] = {a->kind != CB_ANALYTIC_PLANE, a->kind == CB_ANALYTIC_TORUS};
+    const double *ax[2] = {a->frame.x, a->frame.y};
+    for (int d = 0; d < 2; d++) {
+        /* parameter d along the conic: const + A cos t + B sin t */
+        double A = c->r1 * cb_vec3_dot(c->frame.x, ax[d]);
+        double B = c->r2 * cb_vec3_dot(c->frame.y, ax[d]);
+        double ts = atan2(B, A);
+        for (int k = -2; k <= 3; k++) {
+            double t = ts + k * CB_SSI_PI;
+            if (t < t0 || t > t1)
+                continue;
+            double X[3], uv[2];
+            cb_topo_curve_eval(X, c, t);
+            _cb_ssi_analytic_invert(uv, a, X);
+            lo[d] = fmin(lo[d], uv[d]);
+            hi[d] = fmax(hi[d], uv[d]);
+        }
+    }
+    return 1;
+}
+
+/* A face whose surface the driver converted to a rational B-spline for the SSI. */
+typedef struct {
+    int on;                   /* 1: converted; net and range are set */
+    const cb_topo_surface *s; /* the face's surface */
+    double range[4];          /* its parameter box that net covers */
+    cb_nurbs_surface_t net;   /* cb_topo_surface_to_nurbs(s, range) */
+} face_conv;
+
+/* How a face's edge points get its surface's parameters while bounding the face: the
+ * coedges' pcurves (the face's own parameters, where a point of a surface covered twice, as a
+ * circle through the axis revolved covers a sphere, has two), or the 3D points inverted: closed
+ * form for an analytic surface, the topology inverter (global search) for a revolution or
+ * extrusion. periodic[d]: direction d is an angle (period 2 pi). */
+typedef struct {
+    const cb_analytic_surface *a;
+    const cb_topo_inverter *inv;
+    int periodic[2];
+    int pole_dir; /* a direction whose angle is undefined where the surface collapses (the
+                     angle of a revolution on its axis), or -1 */
+    double *prange; /* NULL, or per coedge of the body the pcurve parameters at its ends
+                       (cb_topo_coedge_pcurve_range): sample the pcurves */
+} face_inv;
+
+/* (u, v) of X; an angle left undefined by the geometry (a point on a revolution's axis) is NaN,
+ * so that it does not widen the face's angular range. */
+static void face_invert(double uv[2], const face_inv *fi, const double X[3])
+{
+    if (fi->a) {
+        _cb_ssi_analytic_invert(uv, fi->a, X);
+        return;
+    }
+    cb_topo_inverter_invert(uv, fi->inv, X, NULL);
+    if (fi->pole_dir >= 0) {
+        double d[6][3];
+        cb_topo_inverter_eval_derivs(d, fi->inv, uv[0], uv[1]);
+        int k = fi->pole_dir;
+        if (cb_vec3_norm(d[1 + k]) <= 1e-9 * cb_vec3_norm(d[2 - k]))
+            uv[k] = NAN;
+    }
+}
+
+/* (u, v) of coedge c's sample k of EDGE_SAMPLES along its edge (mid: half a step before it). */
+static void coedge_uv(double uv[2], const face_inv *fi, const cb_topo_body *b, int c, int k,
+                      int mid)
+{
+    if (fi->prange) {
+        const double *s = fi->prange + 2 * c;
+        double t = s[0] + (s[1] - s[0]) * k / (EDGE_SAMPLES - 1), p[3];
+        if (mid)
+            t -= 0.5 * (s[1] - s[0]) / (EDGE_SAMPLES - 1);
+        cb_topo_pcurve_eval(p, b->pcurves + b->coedges[c].pcurve, t);
+        uv[0] = p[0];
+        uv[1] = p[1];
+        return;
+    }
+    const cb_topo_edge *e = b->edges + b->coedges[c].edge;
+    double t = e->t0 + (e->t1 - e->t0) * k / (EDGE_SAMPLES - 1), X[3];
+    if (mid)
+        t -= 0.5 * (e->t1 - e->t0) / (EDGE_SAMPLES - 1);
+    cb_topo_curve_eval(X, b->curves + e->curve, t);
+    face_invert(uv, fi, X);
+}
+
+/* The parameter box of a face's edges on its surface, range = {u0, u1, v0, v1}: an angle by
+ * the shortest arc holding its samples (a seam, or a span of a whole turn or more, makes it
+ * the full turn [lo, lo + 2 pi]), the other directions by the samples' extent; both grown by
+ * the edges' deviation from their sample chords. Returns 1; 0 when the face has no edge
+ * samples; -1 when out of memory. */
+static int face_range(double range[4], const face_inv *fi, const cb_topo_body *b, int face)
+{
+    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL}, grow[2] = {0, 0};
+    const int *periodic = fi->periodic;
+    int have = 0;
     const cb_topo_face *f = b->faces + face;
     slong ns = 0, nalloc = 0;
     double *ang = NULL; /* angles of the periodic directions, 2 per sample, in [0, 2 pi) */
+    double ref[2] = {NAN, NAN}; /* the first defined angle of each periodic direction */
     for (int l = f->first; l < f->first + f->count; l++) {
         const cb_topo_loop *lp = b->loops + l;
         for (int c = lp->first; c < lp->first + lp->count; c++) {
-            const cb_topo_edge *e = b->edges + b->coedges[c].edge;
+            /* this edge's extent in the non-periodic directions and its deviation */
+            double prev[2] = {0, 0}, elo[2] = {HUGE_VAL, HUGE_VAL}, ehi[2] = {-HUGE_VAL, -HUGE_VAL};
+            double edev[2] = {0, 0};
             for (int k = 0; k < EDGE_SAMPLES; k++) {
-                double t = e->t0 + (e->t1 - e->t0) * k / (EDGE_SAMPLES - 1), X[3], uv[2];
-                cb_topo_curve_eval(X, b->curves + e->curve, t);
-                _cb_ssi_analytic_invert(uv, a, X);
+                double uv[2];
+                coedge_uv(uv, fi, b, c, k, 0);
+                if (k > 0) {
+                    /* how far the edge strays from the chord between two samples, at the
+                     * middle of the step (an arc by its sagitta) */
+                    double um[2];
+                    coedge_uv(um, fi, b, c, k, 1);
+                    for (int d = 0; d < 2; d++) {
+                        double dev = periodic[d]
+                                         ? turn_diff(um[d] - prev[d] - 0.5 * turn_diff(uv[d] - prev[d]))
+                                         : um[d] - 0.5 * (prev[d] + uv[d]);
+                        if (isfinite(dev))
+                            edev[d] = fmax(edev[d], fabs(dev));
+                    }
+                }
+                memcpy(prev, uv, sizeof prev);
                 if (ns == nalloc) {
                     slong na = nalloc ? 2 * nalloc : 64;
                     double *q = realloc(ang, (size_t)(2 * na) * sizeof(double));
@@ -50,22 +165,41 @@ static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
                     nalloc = na;
                 }
                 for (int d = 0; d < 2; d++) {
+                    if (periodic[d] && isnan(ref[d]))
+                        ref[d] = uv[d];
                     if (periodic[d]) {
                         ang[2 * ns + d] = fmod(fmod(uv[d], 2 * CB_SSI_PI) + 2 * CB_SSI_PI,
                                                2 * CB_SSI_PI);
-                    } else {
-                        lo[d] = fmin(lo[d], uv[d]);
-                        hi[d] = fmax(hi[d], uv[d]);
+                    } else if (isfinite(uv[d])) {
+                        elo[d] = fmin(elo[d], uv[d]);
+                        ehi[d] = fmax(ehi[d], uv[d]);
                     }
                 }
                 ns++;
                 have = 1;
             }
+            /* The extremes of an arc lie between its samples (a plane face bounded by a
+             * circle of radius r reached r (1 - cos(pi / 16)) beyond them). A conic on a
+             * plane has them in closed form (the plane's parameters are affine in space);
+             * any other edge's samples' extent is grown by twice its deviation from their
+             * chords. Curves are clipped to this box and trimmed to the face's loops later
+             * (boolean/cut.c), so a box too large costs little. */
+            const cb_topo_edge *ed = b->edges + b->coedges[c].edge;
+            if (fi->a && conic_on_plane(elo, ehi, fi->a, b->curves + ed->curve, ed->t0, ed->t1))
+                edev[0] = edev[1] = 0;
+            for (int d = 0; d < 2; d++)
+                if (periodic[d]) {
+                    grow[d] = fmax(grow[d], edev[d]);
+                } else if (elo[d] <= ehi[d]) {
+                    lo[d] = fmin(lo[d], elo[d] - 2 * edev[d]);
+                    hi[d] = fmax(hi[d], ehi[d] + 2 * edev[d]);
+                }
         }
     }
     /* A periodic direction spans the shortest arc holding every sample: the complement of the
      * largest gap between consecutive sorted angles (robust where samples straddle the branch
-     * cut at +-pi, which an unwrapping along the loop could resolve the wrong way). */
+     * cut at +-pi, which an unwrapping along the loop could resolve the wrong way). Undefined
+     * angles (NaN: points on an axis) are left out. */
     for (int d = 0; d < 2 && have; d++) {
         if (!periodic[d])
             continue;
@@ -74,24 +208,40 @@ static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
             free(ang);
             return -1;
         }
+        slong nx = 0;
         for (slong k = 0; k < ns; k++)
-            x[k] = ang[2 * k + d];
-        for (slong i = 1; i < ns; i++) /* insertion sort: a few hundred samples */
+            if (isfinite(ang[2 * k + d]))
+                x[nx++] = ang[2 * k + d];
+        for (slong i = 1; i < nx; i++) /* insertion sort: a few hundred samples */
             for (slong j = i; j > 0 && x[j - 1] > x[j]; j--) {
                 double tmp = x[j];
                 x[j] = x[j - 1];
                 x[j - 1] = tmp;
             }
-        double gap = x[0] + 2 * CB_SSI_PI - x[ns - 1];
+        if (nx == 0) { /* every sample on the axis: nothing bounds the angle */
+            lo[d] = 0;
+            hi[d] = 2 * CB_SSI_PI;
+            free(x);
+            continue;
+        }
+        double gap = x[0] + 2 * CB_SSI_PI - x[nx - 1];
         lo[d] = x[0];
-        hi[d] = x[ns - 1];
-        for (slong k = 0; k + 1 < ns; k++)
+        hi[d] = x[nx - 1];
+        for (slong k = 0; k + 1 < nx; k++)
             if (x[k + 1] - x[k] > gap) {
                 gap = x[k + 1] - x[k];
                 lo[d] = x[k + 1];
                 hi[d] = x[k] + 2 * CB_SSI_PI;
             }
         free(x);
+        if (fi->prange) {
+            /* Pcurves place the face in a lift of their own: the arc is moved by whole turns
+             * to hold the first sample as the pcurve gives it (the reparameterised points then
+             * lie in the face's lift). */
+            double turns = floor((ref[d] - lo[d]) / (2 * CB_SSI_PI));
+            lo[d] += 2 * CB_SSI_PI * turns;
+            hi[d] += 2 * CB_SSI_PI * turns;
+        }
     }
     free(ang);
     if (!have)
@@ -110,26 +260,125 @@ static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
                     uses += b->coedges[c2].edge == e;
             if (uses < 2)
                 continue;
-            const cb_topo_edge *ed = b->edges + e;
+            /* the seam's extent in each direction; for a converted face an angle measured
+             * from the first defined sample, as the inverter gives a seam at angle 0 as 0 or
+             * as 2 pi - eps (analytic faces: the closed-form angles in (-pi, pi] as they are,
+             * which would see a seam at angle pi as a whole turn) */
             double slo[2] = {HUGE_VAL, HUGE_VAL}, shi[2] = {-HUGE_VAL, -HUGE_VAL};
+            double first[2] = {NAN, NAN};
             for (int k = 1; k + 1 < EDGE_SAMPLES; k++) {
-                double t = ed->t0 + (ed->t1 - ed->t0) * k / (EDGE_SAMPLES - 1), X[3], uv[2];
-                cb_topo_curve_eval(X, b->curves + ed->curve, t);
-                _cb_ssi_analytic_invert(uv, a, X);
-                for (int d = 0; d < 2; d++) {
-                    slo[d] = fmin(slo[d], uv[d]);
-                    shi[d] = fmax(shi[d], uv[d]);
-                }
+                double uv[2];
+                coedge_uv(uv, fi, b, c, k, 0);
+                for (int d = 0; d < 2; d++)
+                    if (isfinite(uv[d])) {
+                        if (periodic[d] && !fi->a) {
+                            if (isnan(first[d]))
+                                first[d] = uv[d];
+                            uv[d] = turn_diff(uv[d] - first[d]);
+                        }
+                        slo[d] = fmin(slo[d], uv[d]);
+                        shi[d] = fmax(shi[d], uv[d]);
+                    }
             }
             around[shi[0] - slo[0] > shi[1] - slo[1] ? 1 : 0] = 1;
         }
     }
-    double range[4] = {lo[0], hi[0], lo[1], hi[1]};
+    /* The periodic directions likewise (an arc of an ellipse in angle). */
+    for (int d = 0; d < 2; d++)
+        if (periodic[d]) {
+            lo[d] -= 2 * grow[d];
+            hi[d] += 2 * grow[d];
+        }
+    range[0] = lo[0];
+    range[1] = hi[0];
+    range[2] = lo[1];
+    range[3] = hi[1];
     for (int d = 0; d < 2; d++)
         if (periodic[d] && (around[d] || hi[d] - lo[d] >= 2 * CB_SSI_PI - 1e-6)) {
             range[2 * d] = lo[d];
             range[2 * d + 1] = lo[d] + 2 * CB_SSI_PI;
         }
+    return 1;
+}
+
+/* The face's surface as an SSI input. A NURBS face is its surface; an analytic face is
+ * bounded by the parameter box of its edges (face_range). A face of a revolution or extrusion
+ * becomes the exact rational B-spline of its surface over that box (cb_topo_surface_to_nurbs,
+ * held in conv->net; the box from the face's pcurves where it has them: a circle through the
+ * axis revolved covers a sphere twice, and an inversion may pick either sheet): a B-spline
+ * profile over its whole domain, a full turn as [0, 2 pi] (the profile's own position, where
+ * files put a revolved face's seam), other angles and lines over the box; conv->range keeps
+ * the box for mapping the SSI's parameters back (reparam).
+ * Returns 1; 0 for surface kinds the driver does not take or faces it cannot bound; -1 when
+ * out of memory. */
+static int face_surface(cb_ssi_surface *S, face_conv *conv, const cb_topo_body *b, int face)
+{
+    const cb_topo_surface *ts = b->surfaces + b->faces[face].surface;
+    conv->s = ts;
+    conv->on = 0;
+    if (ts->kind == CB_SURFACE_NURBS) {
+        cb_ssi_surface_set_nurbs(S, ts->nurbs);
+        return 1;
+    }
+    if (ts->kind == CB_SURFACE_REVOLUTION || ts->kind == CB_SURFACE_EXTRUSION) {
+        int rev = ts->kind == CB_SURFACE_REVOLUTION, pd = rev ? 1 : 0; /* profile direction */
+        cb_curve_kind pk = ts->profile.kind;
+        int conic = pk == CB_CURVE_CIRCLE || pk == CB_CURVE_ELLIPSE;
+        cb_topo_inverter inv;
+        double tol = b->tol > 0 ? b->tol : 1e-7;
+        if (cb_topo_inverter_init(&inv, ts, tol, NULL) != CB_OK)
+            return -1; /* the inverter's only error is running out of memory */
+        face_inv fi = {NULL, &inv, {rev || (pd == 0 && conic), pd == 1 && conic}, rev ? 0 : -1,
+                       NULL};
+        /* The face's own parameters from its pcurves where every coedge has one reaching its
+         * edge's ends (within the edge's tolerance); else the edges' points inverted. */
+        const cb_topo_face *f = b->faces + face;
+        double *pr = malloc((size_t)(b->n_coedges + 1) * 2 * sizeof(double));
+        int use = pr != NULL;
+        for (int l = f->first; use && l < f->first + f->count; l++)
+            for (int c = b->loops[l].first; use && c < b->loops[l].first + b->loops[l].count;
+                 c++) {
+                const cb_topo_edge *e = b->edges + b->coedges[c].edge;
+                double etol = fmax(tol, e->tol);
+                use = b->coedges[c].pcurve >= 0 &&
+                      cb_topo_coedge_pcurve_range(pr + 2 * c, pr + 2 * c + 1, b, c, &inv, etol) <=
+                          etol;
+            }
+        fi.prange = use ? pr : NULL;
+        double range[4];
+        int k = face_range(range, &fi, b, face);
+        free(pr);
+        cb_topo_inverter_clear(&inv);
+        if (k <= 0)
+            return k;
+        for (int d = 0; d < 2; d++)
+            if (fi.periodic[d] && range[2 * d + 1] - range[2 * d] >= 2 * CB_SSI_PI - 1e-9) {
+                range[2 * d] = 0;
+                range[2 * d + 1] = 2 * CB_SSI_PI;
+            }
+        if (pk == CB_CURVE_NURBS)
+            cb_nurbs_curve_domain(ts->profile.nurbs, range + 2 * pd, range + 2 * pd + 1);
+        memcpy(conv->range, range, sizeof range);
+        cb_status st = cb_topo_surface_to_nurbs(conv->net, ts, range, REVOLVE_EXACT, NULL);
+        if (st != CB_OK)
+            return st == CB_ERR_NOMEM ? -1 : 0;
+        conv->on = 1;
+        cb_ssi_surface_set_nurbs(S, conv->net);
+        return 1;
+    }
+    if (ts->kind != CB_SURFACE_ANALYTIC)
+        return 0;
+    const cb_analytic_surface *a = &ts->analytic;
+    face_inv fi = {a, NULL, {a->kind != CB_ANALYTIC_PLANE, a->kind == CB_ANALYTIC_TORUS}, -1,
+                   NULL};
+    double range[4];
+    int k = face_range(range, &fi, b, face);
+    if (k <= 0)
+        return k;
+    if (a->kind == CB_ANALYTIC_SPHERE || a->kind == CB_ANALYTIC_ELLIPSOID) {
+        range[2] = fmax(range[2], -CB_SSI_PI / 2);
+        range[3] = fmin(range[3], CB_SSI_PI / 2);
+    }
     if (a->kind == CB_ANALYTIC_SPHERE && range[1] - range[0] >= 2 * CB_SSI_PI - 1e-6) {
         /* A sphere face bounded by a seam and the poles: its latitude range is the sphere's. */
         range[2] = fmin(range[2], -CB_SSI_PI / 2);
@@ -149,6 +398,58 @@ static int face_surface(cb_ssi_surface *S, const cb_topo_body *b, int face)
     }
     cb_ssi_surface_set_analytic(S, a, range);
     return 1;
+}
+
+/* uv of conv->net mapped to the face's own surface parameters. */
+static void map_uv(double uv[2], const face_conv *conv)
+{
+    double st[2] = {uv[0], uv[1]};
+    cb_topo_surface_nurbs_param(uv, conv->s, conv->range, REVOLVE_EXACT, st);
+}
+
+/* A parameter box {u0, u1, v0, v1} mapped by its corners (the map increases per direction). */
+static void map_box(double box[4], const face_conv *conv)
+{
+    double lo[2] = {box[0], box[2]}, hi[2] = {box[1], box[3]};
+    map_uv(lo, conv);
+    map_uv(hi, conv);
+    box[0] = lo[0];
+    box[1] = hi[0];
+    box[2] = lo[1];
+    box[3] = hi[1];
+}
+
+/* The SSI's parameters on a converted face (conv->net) mapped to the face's own
+ * (cb_topo_surface_nurbs_param: per direction a strictly increasing closed form, so curves
+ * keep their topology and point order), in every record of side `side` (0: A) of r: curve and
+ * isolated points, marks, the parameter boxes of regions and failures (their corners: the map
+ * is increasing in each direction). Patch indices of that side become -1: they number the
+ * converted net's Bezier patches, not anything of the face. */
+static void reparam(cb_ssi_result_t r, int side, const face_conv *conv)
+{
+    for (slong c = 0; c < r->n_curves; c++)
+        for (slong i = 0; i < r->curve[c].n; i++)
+            map_uv(side ? r->curve[c].pt[i].uv_b : r->curve[c].pt[i].uv_a, conv);
+    for (slong k = 0; k < r->n_points; k++)
+        map_uv(side ? r->point[k].p.uv_b : r->point[k].p.uv_a, conv);
+    for (slong k = 0; k < r->n_marks; k++)
+        if (r->mark[k].q_side == side) {
+            map_uv(r->mark[k].uv, conv);
+            r->mark[k].patch = -1;
+        }
+    for (slong k = 0; k < r->n_regions; k++) {
+        cb_ssi_region *g = r->region + k;
+        map_box(side ? g->box_b : g->box_a, conv);
+        *(side ? &g->patch_b : &g->patch_a) = -1;
+    }
+    for (slong k = 0; k < r->n_failed; k++) {
+        cb_ssi_failure *f = r->failed + k;
+        if (f->has_box)
+            map_box(side ? f->box_b : f->box_a, conv);
+        *(side ? &f->patch_b : &f->patch_a) = -1;
+    }
+    for (slong k = 0; k < r->n_coincident; k++)
+        *(side ? &r->coincident[k].patch_b : &r->coincident[k].patch_a) = -1;
 }
 
 /* Axis-aligned box of a face's surface: the control net (NURBS, or the analytic surface's
@@ -175,12 +476,13 @@ static int face_box(cb_aabb *box, const cb_ssi_surface *S)
     return st == CB_OK ? 1 : (st == CB_ERR_NOMEM ? -1 : 0);
 }
 
-/* SSI inputs and boxes of b's faces; ok[i] = 0 for a face the driver does not take.
- * CB_ERR_NOMEM. */
-static cb_status body_faces(cb_ssi_surface *S, cb_aabb *box, char *ok, const cb_topo_body *b)
+/* SSI inputs, conversions and boxes of b's faces; ok[i] = 0 for a face the driver does not
+ * take. CB_ERR_NOMEM. */
+static cb_status body_faces(cb_ssi_surface *S, face_conv *conv, cb_aabb *box, char *ok,
+                            const cb_topo_body *b)
 {
     for (int i = 0; i < b->n_faces; i++) {
-        int k = face_surface(S + i, b, i);
+        int k = face_surface(S + i, conv + i, b, i);
         if (k > 0)
             k = face_box(box + i, S + i);
         if (k < 0)
@@ -201,6 +503,7 @@ typedef struct {
 typedef struct {
     fpair *f;
     const cb_ssi_surface *sa, *sb;
+    const face_conv *ca, *cb; /* conversions of a's and b's faces */
     cb_ssi_opts o;
     atomic_long done; /* face pairs finished, for progress */
     long total;       /* face pairs to run */
@@ -219,6 +522,10 @@ static void fbody(void *vctx, size_t begin, size_t end)
             continue;
         }
         F->st = cb_ssi_surfaces(F->r, c->sa + F->i, c->sb + F->j, F->i, F->j, &c->o, &F->err);
+        if (F->st == CB_OK && c->ca[F->i].on)
+            reparam(F->r, 0, c->ca + F->i);
+        if (F->st == CB_OK && c->cb[F->j].on)
+            reparam(F->r, 1, c->cb + F->j);
         if (c->o.progress)
             cb_context_progress(c->o.progress, (double)(atomic_fetch_add(&c->done, 1) + 1),
                                 (double)c->total, "ssi");
@@ -248,13 +555,19 @@ cb_status cb_ssi_bodies(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_
     cb_aabb *xa = malloc((size_t)(a->n_faces + 1) * sizeof(cb_aabb));
     cb_aabb *xb = malloc((size_t)(b->n_faces + 1) * sizeof(cb_aabb));
     char *oka = calloc((size_t)a->n_faces + 1, 1), *okb = calloc((size_t)b->n_faces + 1, 1);
+    face_conv *ca = calloc((size_t)a->n_faces + 1, sizeof(face_conv));
+    face_conv *cb = calloc((size_t)b->n_faces + 1, sizeof(face_conv));
+    for (int i = 0; ca && i < a->n_faces; i++)
+        cb_nurbs_surface_init(ca[i].net);
+    for (int j = 0; cb && j < b->n_faces; j++)
+        cb_nurbs_surface_init(cb[j].net);
     slong nf = 0, af = 64;
     fpair *fp = malloc((size_t)af * sizeof(fpair));
-    cb_status st = sa && sb && xa && xb && oka && okb && fp ? CB_OK : CB_ERR_NOMEM;
+    cb_status st = sa && sb && xa && xb && oka && okb && ca && cb && fp ? CB_OK : CB_ERR_NOMEM;
     if (st == CB_OK)
-        st = body_faces(sa, xa, oka, a);
+        st = body_faces(sa, ca, xa, oka, a);
     if (st == CB_OK)
-        st = body_faces(sb, xb, okb, b);
+        st = body_faces(sb, cb, xb, okb, b);
     /* Face pairs in order: a failure record, or a pair to intersect. */
     for (int i = 0; i < a->n_faces && st == CB_OK; i++)
         for (int j = 0; j < b->n_faces; j++) {
@@ -291,7 +604,7 @@ cb_status cb_ssi_bodies(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_
         cb_error_set(err, st, "ssi: out of memory preparing %d x %d faces", a->n_faces,
                      b->n_faces);
     } else {
-        fctx fc = {fp, sa, sb, o, 0, 0};
+        fctx fc = {fp, sa, sb, ca, cb, o, 0, 0};
         for (slong k = 0; k < nf; k++)
             fc.total += fp[k].run;
         fc.o.threads = 1;
@@ -333,5 +646,11 @@ cb_status cb_ssi_bodies(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_
     free(xb);
     free(oka);
     free(okb);
+    for (int i = 0; ca && i < a->n_faces; i++)
+        cb_nurbs_surface_clear(ca[i].net);
+    for (int j = 0; cb && j < b->n_faces; j++)
+        cb_nurbs_surface_clear(cb[j].net);
+    free(ca);
+    free(cb);
     return st;
 }

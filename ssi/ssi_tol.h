@@ -133,6 +133,11 @@
  *     falls back to the inside sample; keep_piece's Dixon inversion at 100 tol;
  *   trace.c: branch ranks read in doubles, vertex sharpening;
  *   spline_pair.c: the entry/exit velocity 1e-9 (a consistency check; the count is proved),
- *     the marching's 1e-12 box slack. */
+ *     the marching's 1e-12 box slack;
+ *   ssi_body.c, the faces' parameter boxes: 17 samples per edge (grown by the edges' deviation
+ *     from their chords), an angle spanning a turn less 1e-6 (analytic faces) or 1e-9
+ *     (revolutions, extrusions) taken as the whole turn, a point of a revolution with
+ *     |S_u| <= 1e-9 |S_v| taken as on the axis (its angle left out), pcurves used for the box
+ *     when they reach their edges' ends within the edge's tolerance. */
 
 #endif

@@ -15,6 +15,7 @@
 #include "io/step.h"
 #include "io/step_write.h"
 #include "models/models.h"
+#include "revolved.h"
 
 #define PI 3.14159265358979323846
 
@@ -258,6 +259,91 @@ static void test_lens_torus(int as_nurbs)
     }
     cb_topo_body_free(T);
     cb_topo_body_free(X);
+}
+
+/* Faces of revolution and extrusion (issue 22): primitives whose curved faces are rewritten as
+ * revolutions of circles and lines, or extrusions of circles (tests/revolved.h: the same
+ * parameterisation, so edges and pcurves stay), in Booleans with closed-form volumes: a sphere
+ * on a box face, a torus cut by a box below its centre plane (half of it), the Steinmetz
+ * bicylinder (a revolved cylinder against an extruded one), and a second operation on a
+ * result whose revolution face spans part of a turn (the cylinder r = 1 cut by the plane
+ * x = 0.3: angles +-acos 0.3, not whole quarters, so the B-spline form has rounded weights),
+ * cut again by two planes. */
+static void test_revolved(void)
+{
+    cb_error err;
+    double lo[3] = {0, 0, 0}, hi[3] = {2, 2, 2}, c[3] = {1, 1, 2}, r = 0.5;
+    cb_topo_body *A = box(lo, hi, 0), *B = sphere(c, r, 0);
+    if (A && B && test_revolve_surfaces(B, 0) == 1) {
+        double half = 2.0 / 3 * PI * r * r * r;
+        const char *name = "box, revolved sphere";
+        check_op(name, CB_BOOL_UNION, A, B, 8 + half, 1e-6, NULL);
+        check_op(name, CB_BOOL_INTERSECTION, A, B, half, 1e-6, NULL);
+        check_op(name, CB_BOOL_DIFFERENCE, A, B, 8 - half, 1e-6, NULL);
+    }
+    cb_topo_body_free(A);
+    cb_topo_body_free(B);
+
+    cb_frame f;
+    double o[3] = {0, 0, 0}, z[3] = {0, 0, 1}, x[3] = {1, 0, 0};
+    cb_topo_body *T = NULL, *X = NULL;
+    double tlo[3] = {-3, -3, -1}, thi[3] = {3, 3, 0};
+    cb_status st = cb_frame_make(&f, o, z, x, &err);
+    if (!st)
+        st = cb_prim_torus(&T, &f, 2, 0.5, 0, 0, &err);
+    if (!st)
+        st = cb_prim_box(&X, NULL, tlo, thi, 0, 0, &err);
+    CHECK(st == CB_OK, "torus, box: %s", err.msg);
+    if (!st && test_revolve_surfaces(T, 0) == 2) {
+        double half = PI * PI * 2 * 0.25, vbox = 36;
+        const char *name = "revolved torus and box";
+        check_op(name, CB_BOOL_INTERSECTION, T, X, half, 1e-6, NULL);
+        check_op(name, CB_BOOL_UNION, T, X, vbox + half, 1e-6, NULL);
+        check_op(name, CB_BOOL_DIFFERENCE, T, X, half, 1e-6, NULL);
+    }
+    cb_topo_body_free(T);
+    cb_topo_body_free(X);
+
+    double ox[3] = {-2, 0, 0}, ax[3] = {1, 0, 0}, oy[3] = {0, -2, 0}, ay[3] = {0, 1, 0};
+    double ref[3] = {0, 0.6, 0.8};
+    A = cylinder(ox, ax, ref, 1, 4, 0);
+    B = cylinder(oy, ay, ref, 1, 4, 0);
+    if (A && B && test_revolve_surfaces(A, 0) == 1 && test_revolve_surfaces(B, 1) == 1) {
+        double vi = 16.0 / 3, vc = 4 * PI;
+        const char *name = "steinmetz revolved/extruded";
+        check_op(name, CB_BOOL_INTERSECTION, A, B, vi, 1e-6, NULL);
+        check_op(name, CB_BOOL_UNION, A, B, 2 * vc - vi, 1e-6, NULL);
+        touching_points = 2;
+        check_op(name, CB_BOOL_DIFFERENCE, A, B, vc - vi, 1e-6, NULL);
+    }
+    cb_topo_body_free(A);
+    cb_topo_body_free(B);
+
+    double slo[3] = {0.3, -2, -1}, shi[3] = {2, 2, 3}, plo[3] = {-2, -2, 0.5}, phi[3] = {2, 2, 1.2};
+    A = cylinder(o, z, x, 1, 2, 0);
+    B = box(slo, shi, 0);
+    cb_topo_body *P = box(plo, phi, 0), *S = NULL;
+    double seg = acos(0.3) - 0.3 * sqrt(0.91); /* area of the disc's part beyond x = 0.3 */
+    if (A && B && P && test_revolve_surfaces(A, 0) == 1) {
+        cb_bool_stats stats;
+        cb_error_clear(&err);
+        st = cb_bool_run(&S, &stats, CB_BOOL_INTERSECTION, A, B, NULL, NULL, &err);
+        CHECK(st == CB_OK && S, "revolved cylinder segment: %s", err.msg);
+        /* the side keeps its surface of revolution (one face or two, split at the seam) */
+        int partial = 0;
+        for (int k = 0; S && k < S->n_faces; k++)
+            partial += S->surfaces[S->faces[k].surface].kind == CB_SURFACE_REVOLUTION;
+        CHECK(partial >= 1, "revolved cylinder segment: no face of revolution");
+        if (S) {
+            const char *name = "revolved segment, slab";
+            check_op(name, CB_BOOL_INTERSECTION, S, P, 0.7 * seg, 1e-6, NULL);
+            check_op(name, CB_BOOL_DIFFERENCE, S, P, 1.3 * seg, 1e-6, NULL);
+        }
+    }
+    cb_topo_body_free(A);
+    cb_topo_body_free(B);
+    cb_topo_body_free(P);
+    cb_topo_body_free(S);
 }
 
 /* Why result res is not acceptable (invalid, no volume, or a mesh that is not a closed,
@@ -1200,6 +1286,8 @@ int main(int argc, char **argv)
         test_lens_torus(0);
         test_lens_torus(1);
     }
+    if (!only || !strcmp(only, "revolved"))
+        test_revolved();
     if (!only || !strcmp(only, "occt"))
         test_occt_faces();
     if (!only || !strcmp(only, "brackets"))

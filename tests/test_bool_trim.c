@@ -150,6 +150,68 @@ static void test_line_across_hole(const cb_topo_body *A)
     cb_topo_body_free(B);
 }
 
+/* The SSI may give a curve as few points as it likes (a closed-form line: points as far apart
+ * as it chooses). The top line of test_line_across_hole is replaced by two points: at y =
+ * -0.7 (off A's face) and 0.8 (over the hole), its stretch y in [0, 0.5] inside both faces
+ * lying between them; at y = 0.2 and 1.9 (both inside), the hole in between. The trim finds
+ * the stretches from where the chords cross the faces' loops, not from the points alone. */
+static void test_sparse_line(const cb_topo_body *A)
+{
+    static const struct {
+        double y0, y1;
+        int n;               /* curves on the top line after trimming */
+        double lo[2], hi[2]; /* their y extents */
+    } cases[] = {{-0.7, 0.8, 1, {0, 0}, {0.5, 0}}, {0.2, 1.9, 2, {0.2, 1.5}, {0.5, 1.9}}};
+    cb_topo_body *B = box(1, -1, -1, 3, 3, 3);
+    for (int k = 0; k < 2 && B; k++) {
+        cb_ssi_opts o;
+        cb_error err;
+        cb_ssi_opts_default(&o);
+        o.threads = 1;
+        cb_ssi_result_t r;
+        cb_ssi_result_init(r);
+        cb_status st = cb_ssi_bodies(r, A, B, &o, &err);
+        CHECK(st == CB_OK, "ssi: %s", err.msg);
+        int found = 0;
+        for (slong c = 0; c < r->n_curves && !st; c++) {
+            cb_ssi_curve *cv = r->curve + c;
+            cb_ssi_point a = cv->pt[0], b = cv->pt[cv->n - 1];
+            if (!(fabs(a.xyz[0] - 1) < 1e-9 && fabs(a.xyz[2] - 2) < 1e-9 &&
+                  fabs(b.xyz[0] - 1) < 1e-9 && fabs(b.xyz[2] - 2) < 1e-9 &&
+                  fabs(b.xyz[1] - a.xyz[1]) > 1))
+                continue;
+            /* planes: the parameters are affine in y along the line */
+            double y[2] = {cases[k].y0, cases[k].y1};
+            for (int e = 0; e < 2; e++) {
+                double f = (y[e] - a.xyz[1]) / (b.xyz[1] - a.xyz[1]);
+                cb_ssi_point *q = cv->pt + e;
+                for (int j = 0; j < 3; j++)
+                    q->xyz[j] = a.xyz[j] + f * (b.xyz[j] - a.xyz[j]);
+                for (int j = 0; j < 2; j++) {
+                    q->uv_a[j] = a.uv_a[j] + f * (b.uv_a[j] - a.uv_a[j]);
+                    q->uv_b[j] = a.uv_b[j] + f * (b.uv_b[j] - a.uv_b[j]);
+                }
+            }
+            cv->n = 2;
+            found++;
+        }
+        CHECK(found == 1, "case %d: %d top lines in the SSI (expected 1)", k, found);
+        if (!st && (st = cb_bool_ssi_trim(r, A, B, r->tol, &err)))
+            CHECK(0, "trim: %s", err.msg);
+        if (!st) {
+            double ylo[2] = {NAN, NAN}, yhi[2] = {NAN, NAN};
+            int n = on_line(r, 1, 2, ylo, yhi), good = n == cases[k].n;
+            for (int j = 0; j < n && j < 2 && good; j++)
+                good = fabs(ylo[j] - cases[k].lo[j]) < 1e-6 && fabs(yhi[j] - cases[k].hi[j]) < 1e-6;
+            CHECK(good, "case %d (points at y %g, %g): %d curves on the top line (expected %d), "
+                        "y in [%g, %g] and [%g, %g]",
+                  k, cases[k].y0, cases[k].y1, n, cases[k].n, ylo[0], yhi[0], ylo[1], yhi[1]);
+        }
+        cb_ssi_result_clear(r);
+    }
+    cb_topo_body_free(B);
+}
+
 /* B's bottom face z = 1 cuts the hole's cylinder in a whole circle, which crosses the
  * cylinder face's seam: it stays one closed curve; and the four sides of A in segments. */
 static void test_circle_across_seam(const cb_topo_body *A)
@@ -234,6 +296,7 @@ int main(void)
 {
     cb_topo_body *A = holed_box();
     test_line_across_hole(A);
+    test_sparse_line(A);
     test_circle_across_seam(A);
     test_touching_points(A);
     if (A)

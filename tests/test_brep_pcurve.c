@@ -532,10 +532,59 @@ static void test_plate(void)
     cb_topo_body_free(b);
 }
 
+/* A wall along a staircase polyline (degree 1 along it, every inner knot a crease) and 0.1
+ * high: the nearest samples of a point on one step just before a corner all lie on the
+ * corner's column, where the derivatives are the next step's, which runs across the first:
+ * Newton from there cannot move along the step. The inversion starts again on both sides of
+ * the crease and finds the point. */
+static void test_crease(void)
+{
+    enum { N = 21 };
+    double pts[2 * N * 3], ku[4] = {0, 0, 1, 1}, kv[N + 2];
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < N; j++) {
+            double *q = pts + 3 * (i * N + j);
+            q[0] = (j + 1) / 2; /* steps alternately along y and x */
+            q[1] = j / 2;
+            q[2] = 0.1 * i;
+        }
+    kv[0] = 0;
+    for (int j = 0; j < N; j++)
+        kv[j + 1] = j;
+    kv[N + 1] = N - 1;
+    cb_topo_surface S;
+    cb_topo_surface_init(&S);
+    S.kind = CB_SURFACE_NURBS;
+    cb_error err;
+    cb_topo_inverter inv;
+    cb_status st = cb_nurbs_surface_make(S.nurbs, 1, 1, ku, 4, kv, N + 2, pts, NULL, 2, N, &err);
+    if (!st)
+        st = cb_topo_inverter_init(&inv, &S, 1e-9, &err);
+    CHECK(st == CB_OK, "crease: %s", err.msg);
+    if (!st) {
+        int bad = 0;
+        for (int j = 1; j + 1 < N; j++) {
+            /* on step j - 1 .. j, a twentieth before its end at the corner j */
+            double w[2] = {0.5, j - 0.05}, p[3], uv[2];
+            cb_topo_inverter_eval(p, &inv, w[0], w[1]);
+            double d = cb_topo_inverter_invert(uv, &inv, p, NULL);
+            if (!(d < 1e-12 && fabs(uv[1] - w[1]) < 1e-9)) {
+                if (!bad)
+                    CHECK(0, "crease: point at v = %g inverted to v = %g, %g off", w[1], uv[1], d);
+                bad++;
+            }
+        }
+        CHECK(bad == 0, "crease: %d of %d points not found", bad, N - 2);
+        cb_topo_inverter_clear(&inv);
+    }
+    cb_topo_surface_clear(&S);
+}
+
 int main(void)
 {
     double t0 = now();
     test_plate();
+    test_crease();
     test_cylinder();
     test_sphere();
     test_pole_edge();

@@ -1,6 +1,7 @@
 /* Topology and its geometry (brep/topo*.c): evaluation identities, nearest points, a body built
  * by hand, the queries, and the validator finding each kind of defect. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -565,6 +566,148 @@ static void test_settle_poles(void)
     cb_topo_body_free(b);
 }
 
+/* Worst |S_nurbs(st) - s(uv)| over a grid of the B-spline's domain, uv the mapped parameters,
+ * checking on the way that the map is strictly increasing in each direction and takes the
+ * domain's corners to want = {u0, u1, v0, v1}. */
+static double check_nurbs_form(const cb_topo_surface *s, const double range[4],
+                               const double want[4], int exact, const char *what)
+{
+    cb_nurbs_surface_t n;
+    cb_nurbs_surface_init(n);
+    cb_error err;
+    cb_status st = cb_topo_surface_to_nurbs(n, s, range, exact, &err);
+    CHECK(st == CB_OK, "%s: to_nurbs: %s", what, err.msg);
+    if (st)
+        return HUGE_VAL;
+    double dom[4], worst = 0;
+    cb_nurbs_surface_domain(n, dom);
+    enum { G = 23 };
+    double prev_u[G + 1], prev_v = -HUGE_VAL;
+    for (int i = 0; i <= G; i++) {
+        double su = i == G ? dom[1] : dom[0] + (dom[1] - dom[0]) * i / G;
+        for (int j = 0; j <= G; j++) {
+            double sv = j == G ? dom[3] : dom[2] + (dom[3] - dom[2]) * j / G, p[3], d[6][3], uv[2];
+            cb_nurbs_surface_eval(p, n, su, sv);
+            cb_topo_surface_nurbs_param(uv, s, range, exact, (double[2]){su, sv});
+            cb_topo_surface_eval_derivs(d, s, uv[0], uv[1]);
+            worst = fmax(worst, cb_vec3_dist(p, d[0]));
+            if (i > 0)
+                CHECK(uv[0] > prev_u[j], "%s: u map not increasing at s = %g", what, su);
+            if (j > 0)
+                CHECK(uv[1] > prev_v, "%s: v map not increasing at t = %g", what, sv);
+            prev_u[j] = uv[0];
+            prev_v = uv[1];
+            if ((i == 0 || i == G) && (j == 0 || j == G))
+                CHECK(uv[0] == want[i ? 1 : 0] && uv[1] == want[j ? 3 : 2],
+                      "%s: corner (%g, %g) maps to (%.17g, %.17g), want (%.17g, %.17g)", what, su,
+                      sv, uv[0], uv[1], want[i ? 1 : 0], want[j ? 3 : 2]);
+        }
+    }
+    cb_nurbs_surface_clear(n);
+    CHECK(worst <= 1e-12 * 10, "%s: B-spline form off the surface by %g", what, worst);
+    return worst;
+}
+
+/* cb_topo_surface_to_nurbs and cb_topo_surface_nurbs_param: the B-spline form of revolutions
+ * and extrusions with line, circle, ellipse and B-spline profiles (planar or not, rational or
+ * not, the profile cut to a sub-range or whole), full turns (exact quarter weights) and
+ * partial ranges, and of analytic surfaces, lies on the surface at the mapped parameters, and
+ * the map is an increasing bijection onto the range. */
+static void test_nurbs_forms(void)
+{
+    check_rng rng = {23};
+    cb_error err;
+    double worst = 0;
+    for (int trial = 0; trial < 24; trial++) {
+        cb_frame f, g;
+        random_frame(&f, &rng);
+        random_frame(&g, &rng);
+        int full = trial % 3 == 0;
+        double a0 = check_rng_uniform(&rng, -4, 4), a1 = a0 + check_rng_uniform(&rng, 0.3, 6.2);
+        double u_range[2] = {full ? 0 : a0, full ? 2 * PI : a1};
+        for (int pk = 0; pk < 5; pk++) {
+            cb_topo_surface s;
+            cb_topo_surface_init(&s);
+            cb_topo_curve *c = &s.profile;
+            c->frame = g;
+            c->r1 = check_rng_uniform(&rng, 0.5, 2);
+            c->r2 = check_rng_uniform(&rng, 0.5, 2);
+            double p_range[2] = {check_rng_uniform(&rng, -3, 0), 0}, want_p[2];
+            p_range[1] = p_range[0] + check_rng_uniform(&rng, 0.5, 6.2);
+            if (pk == 0) {
+                c->kind = CB_CURVE_LINE; /* skew to the axis: no plane through it */
+            } else if (pk == 1 || pk == 2) {
+                c->kind = pk == 1 ? CB_CURVE_CIRCLE : CB_CURVE_ELLIPSE;
+            } else {
+                c->kind = CB_CURVE_NURBS;
+                if (pk == 3) {
+                    CHECK(cb_nurbs_curve_arc(c->nurbs, g.o, g.x, g.z, c->r1, -1.0, 2.5, &err) ==
+                              CB_OK,
+                          "%s", err.msg);
+                } else {
+                    double knots[8] = {0, 0, 0, 0, 1, 1, 1, 1}, pts[12];
+                    for (int k = 0; k < 12; k++)
+                        pts[k] = check_rng_uniform(&rng, -3, 3);
+                    CHECK(cb_nurbs_curve_make(c->nurbs, 3, knots, 8, pts, NULL, 4, &err) == CB_OK,
+                          "%s", err.msg);
+                }
+                double lo, hi;
+                cb_nurbs_curve_domain(c->nurbs, &lo, &hi);
+                /* every other trial a sub-range (the B-spline is cut), else the whole */
+                p_range[0] = trial % 2 ? lo + 0.3 * (hi - lo) : lo - 1;
+                p_range[1] = trial % 2 ? lo + 0.8 * (hi - lo) : hi + 1;
+            }
+            want_p[0] = p_range[0];
+            want_p[1] = p_range[1];
+            if (c->kind == CB_CURVE_NURBS && trial % 2 == 0)
+                cb_nurbs_curve_domain(c->nurbs, &want_p[0], &want_p[1]);
+            char what[96];
+            /* revolution about f's axis */
+            s.kind = CB_SURFACE_REVOLUTION;
+            s.frame = f;
+            double range[4] = {u_range[0], u_range[1], p_range[0], p_range[1]};
+            double want[4] = {u_range[0], u_range[1], want_p[0], want_p[1]};
+            snprintf(what, sizeof what, "trial %d revolution of a %s%s", trial,
+                     cb_curve_kind_name(c->kind), full ? " (full turn)" : "");
+            worst = fmax(worst, check_nurbs_form(&s, range, want, trial % 2, what));
+            /* extrusion along a skew direction */
+            s.kind = CB_SURFACE_EXTRUSION;
+            for (int k = 0; k < 3; k++)
+                s.dir[k] = 1.7 * f.z[k] + 0.3 * f.x[k];
+            double erange[4] = {p_range[0], p_range[1], -1.5, 2.0};
+            double ewant[4] = {want_p[0], want_p[1], -1.5, 2.0};
+            snprintf(what, sizeof what, "trial %d extrusion of a %s", trial,
+                     cb_curve_kind_name(c->kind));
+            worst = fmax(worst, check_nurbs_form(&s, erange, ewant, trial % 4 < 2, what));
+            cb_topo_surface_clear(&s);
+        }
+        /* analytic surfaces through the same service */
+        cb_topo_surface s;
+        cb_topo_surface_init(&s);
+        s.kind = CB_SURFACE_ANALYTIC;
+        cb_analytic_torus(&s.analytic, &f, 3.0, 1.0, &err);
+        double tr[4] = {u_range[0], u_range[1], -2.0, 1.5};
+        worst = fmax(worst, check_nurbs_form(&s, tr, tr, trial % 2, "torus"));
+        cb_analytic_cone(&s.analytic, &f, 1.0, 0.4, &err);
+        double cr[4] = {u_range[0], u_range[1], 0.5, 3.0};
+        worst = fmax(worst, check_nurbs_form(&s, cr, cr, trial % 2, "cone"));
+        cb_topo_surface_clear(&s);
+    }
+    /* the arc map alone: the identity at the knots, strictly between them, exact or not */
+    for (int exact = 0; exact < 2; exact++) {
+        double k0 = 0, k1 = 2 * PI;
+        for (int q = 0; q <= 4; q++) {
+            double t = k0 + q * 0.5 * PI;
+            CHECK(cb_nurbs_arc_angle(k0, k1, exact, t) == t, "arc angle at knot %g", t);
+        }
+        double t = 0.3, a = cb_nurbs_arc_angle(k0, k1, exact, t);
+        CHECK(a > 0 && a < 0.5 * PI, "arc angle at 0.3: %g", a);
+        CHECK(cb_nurbs_arc_angle(k0, k1, exact, -1) == k0 && cb_nurbs_arc_angle(k0, k1, exact, 9) == k1,
+              "arc angle outside the domain not clamped");
+    }
+    printf("B-spline forms of revolutions, extrusions, analytic surfaces: worst %.3g\n", worst);
+}
+
 int main(void)
 {
     test_settle_poles();
@@ -572,5 +715,6 @@ int main(void)
     test_curves();
     test_body();
     test_degenerate_faces();
+    test_nurbs_forms();
     return check_report("brep_topo");
 }

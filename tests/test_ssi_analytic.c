@@ -16,6 +16,7 @@
 #include "check.h"
 #include "models/models.h"
 #include "ssi/ssi.h"
+#include "revolved.h"
 
 #define PI CB_SSI_PI
 
@@ -1063,6 +1064,108 @@ static void test_prim_bodies(void)
     cb_topo_body_free(c);
 }
 
+/* Faces of revolution and extrusion (issue 22), intersected through their exact rational
+ * B-spline forms (ssi_body.c): the torus (R 2, r 1/2, two half faces u in [0, pi] and
+ * [pi, 2 pi]) as circles revolved, against a box whose top face is the plane z = 1/4: on each
+ * half the circles of radius 2 +- sqrt(r^2 - 1/16) in that plane; a cylinder (r 1, z in
+ * [-2, 2]) as a circle extruded and as a line revolved, against a sphere of radius 3/2 about
+ * the origin: the circles of radius 1 at z = +-sqrt(5)/2. Every point on its closed-form
+ * curve, its parameters on the face's own surface (mapped back from the B-spline's: within tol
+ * of the point) and inside the face's own range, the lengths the circles', all pairs
+ * certified. */
+static void check_revolved(const char *name, cb_topo_body *A, cb_topo_body *B, int face_kind,
+                           const double *rho, const double *z, int n_z, double length,
+                           const double urange[][2])
+{
+    cb_ssi_opts o;
+    cb_ssi_opts_default(&o);
+    o.chord = 1e-5; /* a sagitta of 1e-5 r keeps the polylines within 1e-5 of the length */
+    cb_ssi_result_t r;
+    cb_ssi_result_init(r);
+    cb_error err;
+    cb_error_clear(&err);
+    cb_status st = cb_ssi_bodies(r, A, B, &o, &err);
+    CHECK(st == CB_OK && r->status == CB_OK && r->n_failed == 0 &&
+              r->pairs_within_tolerance == 0,
+          "%s: status %d/%d, %ld refused, %ld within tol (%s)", name, st, r->status,
+          (long)r->n_failed, (long)r->pairs_within_tolerance,
+          r->n_failed ? r->failed[0].msg : err.msg);
+    double len = 0, worst = 0, worst_uv = 0;
+    int bad = 0, bad_u = 0, on_kind = 0;
+    for (slong c = 0; c < r->n_curves; c++) {
+        const cb_ssi_curve *cv = r->curve + c;
+        const cb_topo_surface *S = A->surfaces + A->faces[cv->face_a].surface;
+        on_kind += S->kind == (cb_surface_kind)face_kind;
+        for (slong i = 0; i < cv->n; i++) {
+            const double *X = cv->pt[i].xyz, *uv = cv->pt[i].uv_a;
+            double h = hypot(X[0], X[1]), e = HUGE_VAL;
+            for (int a = 0; a < 2; a++)
+                for (int b = 0; b < n_z; b++)
+                    e = fmin(e, hypot(h - rho[a], X[2] - z[b]));
+            worst = fmax(worst, e);
+            bad += !(e <= r->tol);
+            double d[6][3];
+            cb_topo_surface_eval_derivs(d, S, uv[0], uv[1]);
+            worst_uv = fmax(worst_uv, d3(d[0], X));
+            /* the face's own angular range, to the SSI's clipping slack */
+            const double *ur = urange[cv->face_a];
+            double u = ur[0] + fmod(fmod(uv[0] - ur[0], 2 * PI) + 2 * PI, 2 * PI);
+            if (u > 2 * PI - 1e-6 + ur[0])
+                u -= 2 * PI;
+            bad_u += !(u >= ur[0] - 1e-6 && u <= ur[1] + 1e-6);
+            if (i > 0)
+                len += d3(X, cv->pt[i - 1].xyz);
+        }
+    }
+    CHECK(on_kind == r->n_curves && r->n_curves > 0, "%s: %d of %ld curves on the %s faces",
+          name, on_kind, (long)r->n_curves, face_kind == CB_SURFACE_REVOLUTION ? "revolution"
+                                                                              : "extrusion");
+    CHECK(bad == 0, "%s: %d points off the circles (worst %g, tol %g)", name, bad, worst, r->tol);
+    CHECK(worst_uv <= r->tol, "%s: S(uv) off the point by %g (tol %g)", name, worst_uv, r->tol);
+    CHECK(bad_u == 0, "%s: %d points outside their face's angular range", name, bad_u);
+    CHECK(fabs(len - length) <= 1e-4 * length, "%s: length %.9g, the circles' %.9g", name, len,
+          length);
+    printf("%-34s %ld curves, length %.9g (rel %.1e), worst %.2g, S(uv) %.2g, tol %.2g\n", name,
+           (long)r->n_curves, len, fabs(len - length) / length, worst, worst_uv, r->tol);
+    cb_ssi_result_clear(r);
+}
+
+static void test_revolved(void)
+{
+    cb_error err;
+    cb_frame f = frame(0, 0, 0, 0, 0, 1);
+    double lo[3] = {-3, -3, -1}, hi[3] = {3, 3, 0.25};
+    cb_topo_body *t = NULL, *bx = NULL, *sp = NULL;
+    CHECK(cb_prim_torus(&t, &f, 2.0, 0.5, 0, 0, &err) == CB_OK, "%s", err.msg);
+    CHECK(cb_prim_box(&bx, NULL, lo, hi, 0, 0, &err) == CB_OK, "%s", err.msg);
+    CHECK(cb_prim_sphere(&sp, &f, 1.5, 0, 0, &err) == CB_OK, "%s", err.msg);
+    if (t && bx && sp && test_revolve_surfaces(t, 0) == 2) {
+        double q = sqrt(0.25 - 0.0625), rho[2] = {2 + q, 2 - q}, z[1] = {0.25};
+        const double ur[2][2] = {{0, PI}, {PI, 2 * PI}};
+        check_revolved("torus revolved / plane", t, bx, CB_SURFACE_REVOLUTION, rho, z, 1,
+                       2 * PI * (rho[0] + rho[1]), ur);
+    }
+    for (int extrude = 0; extrude < 2 && sp; extrude++) {
+        cb_frame g = frame(0, 0, -2, 0, 0, 1);
+        cb_topo_body *c = NULL;
+        CHECK(cb_prim_cylinder(&c, &g, 1.0, 4.0, 0, 0, &err) == CB_OK, "%s", err.msg);
+        if (!c || test_revolve_surfaces(c, extrude) != 1) {
+            CHECK(0, "cylinder not converted");
+            cb_topo_body_free(c);
+            continue;
+        }
+        double rho[2] = {1, 1}, z[2] = {sqrt(5) / 2, -sqrt(5) / 2};
+        const double ur[3][2] = {{0, 2 * PI}, {-PI, PI}, {-PI, PI}}; /* discs: any angle */
+        check_revolved(extrude ? "cylinder extruded / sphere" : "cylinder revolved / sphere", c,
+                       sp, extrude ? CB_SURFACE_EXTRUSION : CB_SURFACE_REVOLUTION, rho, z, 2,
+                       4 * PI, ur);
+        cb_topo_body_free(c);
+    }
+    cb_topo_body_free(t);
+    cb_topo_body_free(bx);
+    cb_topo_body_free(sp);
+}
+
 /* The Steinmetz bicylinder (issue 8): unit cylinders of length 4 along x from (-2, 0, 0) and
  * along y from (0, -2, 0), as analytic faces and as exact rational B-splines, seams through the
  * crossing points (0, 0, +-1) (frame ref z) or elsewhere (ref (0, 0.6, 0.8)). The side faces
@@ -1376,6 +1479,10 @@ int main(int argc, char **argv)
         test_table4();
         return check_report("test_ssi_analytic");
     }
+    if (only && !strcmp(only, "revolved")) {
+        test_revolved();
+        return check_report("test_ssi_analytic");
+    }
     if (only && !strcmp(only, "steinmetz")) {
         test_recognise();
         test_steinmetz();
@@ -1391,6 +1498,7 @@ int main(int argc, char **argv)
     test_rational_subdivision();
     test_cardan();
     test_prim_bodies();
+    test_revolved();
     test_recognise();
     test_steinmetz();
     return check_report("test_ssi_analytic");
