@@ -418,6 +418,23 @@ static int chord_cross(const double p[2], const double q[2], int a, double x, do
     return yb > y;
 }
 
+/* The halves of the pcurve piece [s0, s1] of sg (chord p q, within dev of it): the middle
+ * parameter *sm and point m, and the halves' deviation bounds (twice their midpoint's, at
+ * least a quarter of the parent's). */
+static void halve_piece(double *sm, double m[2], double *d1, double *d2, const cb_face *f,
+                        const cb_face_seg *sg, double s0, double s1, const double p[2],
+                        const double q[2], double dev)
+{
+    const cb_topo_curve *pc = &f->b->pcurves[f->b->coedges[sg->coedge].pcurve];
+    double w1[2], w2[2];
+    *sm = 0.5 * (s0 + s1);
+    pc_point(m, pc, *sm, sg->shift);
+    pc_point(w1, pc, 0.5 * (s0 + *sm), sg->shift);
+    pc_point(w2, pc, 0.5 * (*sm + s1), sg->shift);
+    *d1 = fmax(0.25 * dev, 2 * seg_dist(w1, p, m));
+    *d2 = fmax(0.25 * dev, 2 * seg_dist(w2, m, q));
+}
+
 /* Crossings of the column a = x above b = y by the pcurve piece [s0, s1] of sg, whose chord
  * p q it stays within dev of: the chord's where the piece cannot reach the point, else the
  * halves'. */
@@ -433,13 +450,8 @@ static int piece_cross(const cb_face *f, const cb_face_seg *sg, double s0, doubl
     if (fmin(p[bb], q[bb]) - dev > y || sg->coedge < 0 || depth >= MAX_QUERY_DEPTH ||
         dev <= 1e-15 * (fabs(x) + fabs(y) + 1))
         return chord_cross(p, q, a, x, y);
-    const cb_topo_curve *pc = &f->b->pcurves[f->b->coedges[sg->coedge].pcurve];
-    double sm = 0.5 * (s0 + s1), m[2], w1[2], w2[2];
-    pc_point(m, pc, sm, sg->shift);
-    pc_point(w1, pc, 0.5 * (s0 + sm), sg->shift);
-    pc_point(w2, pc, 0.5 * (sm + s1), sg->shift);
-    double d1 = fmax(0.25 * dev, 2 * seg_dist(w1, p, m));
-    double d2 = fmax(0.25 * dev, 2 * seg_dist(w2, m, q));
+    double sm, m[2], d1, d2;
+    halve_piece(&sm, m, &d1, &d2, f, sg, s0, s1, p, q, dev);
     return piece_cross(f, sg, s0, sm, p, m, d1, x, y, depth + 1) +
            piece_cross(f, sg, sm, s1, m, q, d2, x, y, depth + 1);
 }
@@ -491,13 +503,8 @@ static cb_status piece_hits(hit_list *h, const cb_face *f, const cb_face_seg *sg
     if (sg->coedge < 0 || depth >= MAX_QUERY_DEPTH ||
         dev <= 1e-15 * (fabs(p[0]) + fabs(p[1]) + fabs(q[0]) + fabs(q[1]) + 1))
         return x < 0 ? CB_OK : push_hit(h, x);
-    const cb_topo_curve *pc = &f->b->pcurves[f->b->coedges[sg->coedge].pcurve];
-    double sm = 0.5 * (s0 + s1), m[2], w1[2], w2[2];
-    pc_point(m, pc, sm, sg->shift);
-    pc_point(w1, pc, 0.5 * (s0 + sm), sg->shift);
-    pc_point(w2, pc, 0.5 * (sm + s1), sg->shift);
-    double d1 = fmax(0.25 * dev, 2 * seg_dist(w1, p, m));
-    double d2 = fmax(0.25 * dev, 2 * seg_dist(w2, m, q));
+    double sm, m[2], d1, d2;
+    halve_piece(&sm, m, &d1, &d2, f, sg, s0, s1, p, q, dev);
     cb_status st = piece_hits(h, f, sg, s0, sm, p, m, d1, a, b, depth + 1);
     return st ? st : piece_hits(h, f, sg, sm, s1, m, q, d2, a, b, depth + 1);
 }
