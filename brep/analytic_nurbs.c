@@ -168,15 +168,15 @@ double cb_nurbs_arc_angle(double a0, double a1, int exact, double t)
     if (t >= t1)
         return t1;
     double s = (t - t0) / (t1 - t0), b[3] = {(1 - s) * (1 - s), 2 * s * (1 - s), s * s};
-    double p[2] = {0, 0}, W = 0;
+    double p[2] = {0, 0};
     for (int i = 0; i < 3; i++) {
         const double *q = xy[2 * k + i];
         p[0] += b[i] * w[2 * k + i] * q[0];
         p[1] += b[i] * w[2 * k + i] * q[1];
-        W += b[i] * w[2 * k + i];
     }
     /* The angle from the segment's first point, which lies at angle t0 (at most a quarter
-     * turn away, so atan2 needs no lifting); the division by W > 0 does not change it. */
+     * turn away, so atan2 needs no lifting), of the homogeneous point: dividing by its
+     * weight (> 0) would not change it. */
     const double *q0 = xy[2 * k];
     double phi = atan2(q0[0] * p[1] - q0[1] * p[0], q0[0] * p[0] + q0[1] * p[1]);
     return fmin(fmax(t0 + phi, t0), t1);
