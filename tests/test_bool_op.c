@@ -204,18 +204,23 @@ static cb_topo_body *cylinder(const double o[3], const double axis[3], const dou
  * touch. ref: where the seams lie (z: through the crossing points, where OCCT 7.6 loses the
  * intersection). As B-splines the faces are recognised as the exact rational cylinders they
  * are (ssi/README.md: the fast path) and intersected in closed form. */
+/* The three Booleans of the bicylinder A, B (unit radius, length 4, axes x and y). */
+static void steinmetz_ops(const char *name, const cb_topo_body *A, const cb_topo_body *B)
+{
+    double vi = 16.0 / 3, vc = 4 * PI;
+    check_op(name, CB_BOOL_INTERSECTION, A, B, vi, 1e-6, NULL);
+    check_op(name, CB_BOOL_UNION, A, B, 2 * vc - vi, 1e-6, NULL);
+    /* The cylinder less the other one: two parts touching at (0, 0, +-1). */
+    touching_points = 2;
+    check_op(name, CB_BOOL_DIFFERENCE, A, B, vc - vi, 1e-6, NULL);
+}
+
 static void test_steinmetz(int as_nurbs, const double ref[3], const char *name)
 {
     double ox[3] = {-2, 0, 0}, x[3] = {1, 0, 0}, oy[3] = {0, -2, 0}, y[3] = {0, 1, 0};
     cb_topo_body *A = cylinder(ox, x, ref, 1, 4, as_nurbs), *B = cylinder(oy, y, ref, 1, 4, as_nurbs);
-    if (A && B) {
-        double vi = 16.0 / 3, vc = 4 * PI;
-        check_op(name, CB_BOOL_INTERSECTION, A, B, vi, 1e-6, NULL);
-        check_op(name, CB_BOOL_UNION, A, B, 2 * vc - vi, 1e-6, NULL);
-        /* The cylinder less the other one: two parts touching at (0, 0, +-1). */
-        touching_points = 2;
-        check_op(name, CB_BOOL_DIFFERENCE, A, B, vc - vi, 1e-6, NULL);
-    }
+    if (A && B)
+        steinmetz_ops(name, A, B);
     cb_topo_body_free(A);
     cb_topo_body_free(B);
 }
@@ -308,14 +313,8 @@ static void test_revolved(void)
     double ref[3] = {0, 0.6, 0.8};
     A = cylinder(ox, ax, ref, 1, 4, 0);
     B = cylinder(oy, ay, ref, 1, 4, 0);
-    if (A && B && test_revolve_surfaces(A, 0) == 1 && test_revolve_surfaces(B, 1) == 1) {
-        double vi = 16.0 / 3, vc = 4 * PI;
-        const char *name = "steinmetz revolved/extruded";
-        check_op(name, CB_BOOL_INTERSECTION, A, B, vi, 1e-6, NULL);
-        check_op(name, CB_BOOL_UNION, A, B, 2 * vc - vi, 1e-6, NULL);
-        touching_points = 2;
-        check_op(name, CB_BOOL_DIFFERENCE, A, B, vc - vi, 1e-6, NULL);
-    }
+    if (A && B && test_revolve_surfaces(A, 0) == 1 && test_revolve_surfaces(B, 1) == 1)
+        steinmetz_ops("steinmetz revolved/extruded", A, B);
     cb_topo_body_free(A);
     cb_topo_body_free(B);
 
