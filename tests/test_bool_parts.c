@@ -5,10 +5,11 @@
  * no Boolean code in the truth. The bar is bench_parts': 4 sigma + 1e-6 |truth| + 1e-9 (V(A) +
  * V(B)). Each result must also be valid and its three volumes satisfy inclusion-exclusion to
  * 2e-6 (ujoint_fork draw 0 is 8e-7 off: the intersection's pieces lie within the parts'
- * tolerance, 1.8e-4 on faces of area 4.5e4, of the exact ones). These cases were refused ("edges of the result could not be sewn") before the trimming
- * found stretches between a curve's points, exits across seams were unwrapped, cuts across a
- * face corner were kept and band faces got seams: the real-parts class of issue 22. Skipped
- * (exit status 77) where ../shared is missing. */
+ * tolerance, 1.8e-4 on faces of area 4.5e4, of the exact ones). All but ujoint_fork's draw 0
+ * were refused ("edges of the result could not be sewn") or invalid before the trimming found
+ * stretches between a curve's points, exits across seams were unwrapped, cuts across a face
+ * corner were kept, curves were split at creases and band faces got seams: the real-parts
+ * class of issue 22. Skipped (exit status 77) where ../shared is missing. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
