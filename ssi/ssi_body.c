@@ -65,6 +65,8 @@ typedef struct {
                                  parameters); patch (i, j) of net is (i + off[0], j + off[1])
                                  of s's, of which there are npv along v */
     int off[2], npv;
+    int has_tight;  /* tight is set: the box of s over its loops' (u, v) box */
+    cb_aabb tight;
 } face_conv;
 
 /* How a face's edge points get its surface's parameters while bounding the face: the
@@ -320,6 +322,37 @@ static int spans_below(const double *U, int n, int p, double x)
     return k;
 }
 
+/* out = s over the parameter box {u0, u1, v0, v1} inside its domain, by knot insertion
+ * (cb_nurbs_surface_split): the same surface and parameters. */
+static cb_status sub_net(cb_nurbs_surface_t out, const cb_nurbs_surface_struct *s,
+                         const double box[4])
+{
+    double dom[4];
+    cb_nurbs_surface_domain(s, dom);
+    cb_nurbs_surface_t t, rest;
+    cb_nurbs_surface_init(t);
+    cb_nurbs_surface_init(rest);
+    cb_status st = cb_nurbs_surface_set(t, s, NULL);
+    for (int d = 0; d < 2 && st == CB_OK; d++) {
+        cb_dir dir = d ? CB_DIR_V : CB_DIR_U;
+        if (box[2 * d] > dom[2 * d]) {
+            st = cb_nurbs_surface_split(rest, out, t, dir, box[2 * d], NULL);
+            if (st == CB_OK)
+                cb_nurbs_surface_swap(t, out);
+        }
+        if (st == CB_OK && box[2 * d + 1] < dom[2 * d + 1]) {
+            st = cb_nurbs_surface_split(out, rest, t, dir, box[2 * d + 1], NULL);
+            if (st == CB_OK)
+                cb_nurbs_surface_swap(t, out);
+        }
+    }
+    if (st == CB_OK)
+        cb_nurbs_surface_swap(t, out);
+    cb_nurbs_surface_clear(t);
+    cb_nurbs_surface_clear(rest);
+    return st;
+}
+
 /* A B-spline face as the knot spans of its surface that its loops reach: the box of its
  * coedges' pcurves in (u, v) (a B-spline pcurve by its control points, which hold the whole
  * curve; a line by its ends; a conic by its centre and radius), grown by RESTRICT_MARGIN of
@@ -329,9 +362,12 @@ static int spans_below(const double *U, int n, int p, double x)
  * outside the face, where the Boolean's trim (boolean/cut.c) would have cut it anyway, and
  * the patch pairs it leaves out are those the whole surface would have intersected there.
  * CAD systems trim B-spline faces out of larger surfaces: two copies of a 39-face part had
- * 232 curves of which 20 reached inside both faces. Returns 1 (conv->net, sub and off set);
- * 0 to use the whole surface (the spans reach its ends, or a coedge has no pcurve reaching
- * its edge's ends); -1 when out of memory. */
+ * 232 curves of which 20 reached inside both faces. Also sets conv->tight, the box of the
+ * surface over the pcurves' box itself (grown by the margin), which bounds the face for the
+ * face pairs' overlap test; the 3D edges are checked to lie in it. Returns 1 (conv->net, sub
+ * and off set); 0 to use the whole surface (the spans reach its ends: tight may still be set;
+ * or a coedge has no pcurve reaching its edge's ends, or an edge leaves that box: tight
+ * unset); -1 when out of memory. */
 static int restrict_nurbs(face_conv *conv, const cb_topo_surface *ts, const cb_topo_body *b,
                           int face)
 {
@@ -401,29 +437,50 @@ static int restrict_nurbs(face_conv *conv, const cb_topo_surface *ts, const cb_t
         whole &= cut[2 * d] == dom[2 * d] && cut[2 * d + 1] == dom[2 * d + 1];
         ok &= cut[2 * d] < cut[2 * d + 1];
     }
-    if (!ok || whole)
+    if (!ok)
         return 0;
-    cb_nurbs_surface_t t, rest;
-    cb_nurbs_surface_init(t);
-    cb_nurbs_surface_init(rest);
-    cb_status st = cb_nurbs_surface_set(t, s, NULL);
-    for (int d = 0; d < 2 && st == CB_OK; d++) {
-        cb_dir dir = d ? CB_DIR_V : CB_DIR_U;
-        if (st == CB_OK && cut[2 * d] > dom[2 * d]) {
-            st = cb_nurbs_surface_split(rest, conv->net, t, dir, cut[2 * d], NULL);
-            if (st == CB_OK)
-                cb_nurbs_surface_swap(t, conv->net);
-        }
-        if (st == CB_OK && cut[2 * d + 1] < dom[2 * d + 1]) {
-            st = cb_nurbs_surface_split(conv->net, rest, t, dir, cut[2 * d + 1], NULL);
-            if (st == CB_OK)
-                cb_nurbs_surface_swap(t, conv->net);
-        }
+    /* The box of the surface over the loops' own (u, v) box, for the face pairs' culling:
+     * a face trimmed out of one span (a single Bezier patch) is not restricted, but its
+     * box is still that of its part. */
+    double tight[4];
+    for (int d = 0; d < 2; d++) {
+        double m = RESTRICT_MARGIN * (dom[2 * d + 1] - dom[2 * d]);
+        tight[2 * d] = fmax(dom[2 * d], lo[d] - m);
+        tight[2 * d + 1] = fmin(dom[2 * d + 1], hi[d] + m);
     }
-    if (st == CB_OK)
-        cb_nurbs_surface_swap(t, conv->net);
-    cb_nurbs_surface_clear(t);
-    cb_nurbs_surface_clear(rest);
+    if (tight[0] < tight[1] && tight[2] < tight[3]) {
+        cb_nurbs_surface_t part;
+        cb_nurbs_surface_init(part);
+        cb_status ts_ = sub_net(part, s, tight);
+        if (ts_ == CB_OK) {
+            cb_nurbs_surface_aabb(&conv->tight, part);
+            conv->has_tight = 1;
+        }
+        cb_nurbs_surface_clear(part);
+        if (ts_ == CB_ERR_NOMEM)
+            return -1;
+    }
+    /* The pcurves agree with their edges at the ends (cb_topo_coedge_pcurve_range); their
+     * middles are checked here: every edge sample must lie in that box (within the edge's
+     * tolerance), or the face is taken whole. */
+    for (int l = f->first; conv->has_tight && l < f->first + f->count; l++)
+        for (int c = b->loops[l].first; c < b->loops[l].first + b->loops[l].count; c++) {
+            const cb_topo_edge *e = b->edges + b->coedges[c].edge;
+            double slack = fmax(tol, e->tol);
+            for (int k = 0; k < EDGE_SAMPLES; k++) {
+                double X[3];
+                cb_topo_curve_eval(X, b->curves + e->curve,
+                                   e->t0 + (e->t1 - e->t0) * k / (EDGE_SAMPLES - 1));
+                for (int q = 0; q < 3; q++)
+                    if (!(X[q] >= conv->tight.lo[q] - slack && X[q] <= conv->tight.hi[q] + slack))
+                        conv->has_tight = 0;
+            }
+        }
+    if (!conv->has_tight)
+        return 0;
+    if (whole)
+        return 0;
+    cb_status st = sub_net(conv->net, s, cut);
     if (st != CB_OK)
         return st == CB_ERR_NOMEM ? -1 : 0;
     conv->sub = 1;
@@ -448,7 +505,7 @@ static int face_surface(cb_ssi_surface *S, face_conv *conv, const cb_topo_body *
     const cb_topo_surface *ts = b->surfaces + b->faces[face].surface;
     conv->s = ts;
     conv->on = 0;
-    conv->sub = 0;
+    conv->sub = conv->has_tight = 0;
     if (ts->kind == CB_SURFACE_NURBS) {
         int k = restrict_nurbs(conv, ts, b, face);
         if (k < 0)
@@ -650,6 +707,8 @@ static cb_status body_faces(cb_ssi_surface *S, face_conv *conv, cb_aabb *box, ch
         int k = face_surface(S + i, conv + i, b, i);
         if (k > 0)
             k = face_box(box + i, S + i);
+        if (k > 0 && conv[i].has_tight)
+            box[i] = conv[i].tight;
         if (k < 0)
             return CB_ERR_NOMEM;
         ok[i] = k > 0;
