@@ -292,6 +292,113 @@ static void test_bad_input(const cb_topo_body *A)
     cb_topo_body_free(B);
 }
 
+/* The B-spline quarter of a sphere: the NURBS unit sphere cut by the box x, y >= 0.2, so
+ * that its face lies within one knot span in u (a quarter turn). strip: every coedge's pcurve
+ * dropped, which makes the SSI take the whole surface (cb_ssi_bodies restricts a B-spline face
+ * to the spans its pcurves reach). */
+static cb_topo_body *sphere_part(int strip)
+{
+    const double c[3] = {0, 0, 0}, ax[3] = {0, 0, 1}, lo[3] = {0.2, 0.2, -2},
+                 hi[3] = {2, 2, 2};
+    cb_frame f;
+    cb_topo_body *s = NULL, *bx = NULL, *out = NULL;
+    cb_error err;
+    cb_status st = cb_frame_make(&f, c, ax, NULL, &err);
+    if (!st)
+        st = cb_prim_sphere(&s, &f, 1, 1, 0, &err);
+    if (!st)
+        st = cb_prim_box(&bx, NULL, lo, hi, 0, 0, &err);
+    if (!st)
+        st = cb_bool_run(&out, NULL, CB_BOOL_INTERSECTION, s, bx, NULL, NULL, &err);
+    CHECK(st == CB_OK && out, "sphere part: %s", err.msg);
+    cb_topo_body_free(s);
+    cb_topo_body_free(bx);
+    for (int k = 0; strip && out && k < out->n_coedges; k++)
+        out->coedges[k].pcurve = -1;
+    return out;
+}
+
+/* The SSI of a B-spline face restricted to the knot spans its loops reach, against the
+ * whole surface, both trimmed to the faces: a sphere meeting the surface only in a span the
+ * face does not reach gives a curve on the whole surface and none on the restricted one
+ * (nothing after trimming either way); one meeting the face gives one closed curve either
+ * way, the same points. */
+static void test_restricted_spans(void)
+{
+    cb_topo_body *A = sphere_part(0), *W = sphere_part(1);
+    if (!A || !W) {
+        cb_topo_body_free(A);
+        cb_topo_body_free(W);
+        return;
+    }
+    const double far[3] = {-0.7, -0.6, 0.1}, near[3] = {0.65, 0.6, 0.1};
+    for (int k = 0; k < 2; k++) {
+        cb_topo_body *B = sphere(k ? near[0] : far[0], k ? near[1] : far[1],
+                                 k ? near[2] : far[2], 0.3);
+        cb_ssi_result_t r0, r, w0, w;
+        cb_ssi_opts o;
+        cb_error err;
+        cb_ssi_opts_default(&o);
+        o.threads = 1;
+        cb_ssi_result_init(w0);
+        cb_ssi_result_init(w);
+        int ok = B && intersect(r0, r, A, B);
+        cb_status st = ok ? cb_ssi_bodies(w0, W, B, &o, &err) : CB_ERR_INVALID;
+        if (st == CB_OK)
+            st = cb_ssi_bodies(w, W, B, &o, &err);
+        if (st == CB_OK) /* trimmed to A's loops: W is A without its pcurves */
+            st = cb_bool_ssi_trim(w, A, B, w->tol, &err);
+        CHECK(st == CB_OK, "whole surface: %s", err.msg);
+        if (ok && st == CB_OK) {
+            if (!k)
+                CHECK(w0->n_curves > r0->n_curves && r->n_curves == 0 && w->n_curves == 0,
+                      "far sphere: %ld curves on the whole surface, %ld on the restricted "
+                      "one (untrimmed), %ld and %ld trimmed", (long)w0->n_curves,
+                      (long)r0->n_curves, (long)w->n_curves, (long)r->n_curves);
+            else
+                CHECK(r->n_curves == 1 && w->n_curves == 1 && r->curve[0].closed &&
+                          w->curve[0].closed,
+                      "near sphere: %ld curves restricted, %ld whole (one closed wanted)",
+                      (long)r->n_curves, (long)w->n_curves);
+            if (k && r->n_curves == 1 && w->n_curves == 1) {
+                /* every point of one curve within the tolerance of the other's polyline */
+                double dmax = 0;
+                for (int s = 0; s < 2; s++) {
+                    const cb_ssi_curve *p = s ? w->curve : r->curve, *q = s ? r->curve : w->curve;
+                    for (slong i = 0; i < p->n; i++) {
+                        double best = HUGE_VAL;
+                        for (slong j = 0; j + 1 < q->n; j++) {
+                            const double *a = q->pt[j].xyz, *b = q->pt[j + 1].xyz;
+                            double ab[3], ap[3], t = 0, l2 = 0, d2 = 0;
+                            for (int x = 0; x < 3; x++) {
+                                ab[x] = b[x] - a[x];
+                                ap[x] = p->pt[i].xyz[x] - a[x];
+                                t += ab[x] * ap[x];
+                                l2 += ab[x] * ab[x];
+                            }
+                            t = l2 > 0 ? fmin(1, fmax(0, t / l2)) : 0;
+                            for (int x = 0; x < 3; x++)
+                                d2 += (ap[x] - t * ab[x]) * (ap[x] - t * ab[x]);
+                            best = fmin(best, sqrt(d2));
+                        }
+                        dmax = fmax(dmax, best);
+                    }
+                }
+                /* the polylines' chords (sagitta 1e-3 of the size) bound how far apart their
+                 * points may lie */
+                CHECK(dmax <= 2e-3, "near sphere: the curves lie %g apart", dmax);
+            }
+        }
+        cb_ssi_result_clear(r0);
+        cb_ssi_result_clear(r);
+        cb_ssi_result_clear(w0);
+        cb_ssi_result_clear(w);
+        cb_topo_body_free(B);
+    }
+    cb_topo_body_free(A);
+    cb_topo_body_free(W);
+}
+
 int main(void)
 {
     cb_topo_body *A = holed_box();
@@ -302,5 +409,6 @@ int main(void)
     if (A)
         test_bad_input(A);
     cb_topo_body_free(A);
+    test_restricted_spans();
     return check_report("test_bool_trim");
 }
