@@ -100,6 +100,17 @@ static void periods_between(int k[2], const cb_topo_inverter *inv, const double 
             k[i] = (int)round((a[i] - b[i]) / inv->lift[i]);
 }
 
+/* The extent {lo, hi} of segments [a, z) of s in direction i. */
+static void seg_extent(double e[2], const cb_face_seg *s, int a, int z, int i)
+{
+    e[0] = HUGE_VAL;
+    e[1] = -HUGE_VAL;
+    for (int k = a; k < z; k++) {
+        e[0] = fmin(e[0], fmin(s[k].p[i], s[k].q[i]));
+        e[1] = fmax(e[1], fmax(s[k].p[i], s[k].q[i]));
+    }
+}
+
 /* Samples the loops into f->segs; wraps[l] receives how many periods loop l goes around. */
 static cb_status sample_loops(cb_face *f, int (*wraps)[2], cb_error *err)
 {
@@ -108,6 +119,7 @@ static cb_status sample_loops(cb_face *f, int (*wraps)[2], cb_error *err)
     const cb_topo_inverter *inv = &f->inv;
     seg_list l = {0};
     cb_status st = CB_OK;
+    int end0 = 0; /* the first loop's segments end here */
     for (int li = 0; li < fc->count && !st; li++) {
         const cb_topo_loop *lp = &b->loops[fc->first + li];
         int first_seg = l.n;
@@ -153,12 +165,20 @@ static cb_status sample_loops(cb_face *f, int (*wraps)[2], cb_error *err)
         st = push_join(&l, prev, close, err);
         wraps[li][0] = k[0];
         wraps[li][1] = k[1];
-        /* Loops that do not go around a period share the first loop's range there. */
+        if (li == 0)
+            end0 = l.n;
+        /* Loops that do not go around a period share the first loop's range there: the lift
+         * that brings their middle nearest the first loop's middle. (The first loop's first
+         * point, used before, lies at the range's end on a band whose outer loop starts on
+         * its seam: a slot half a period away was placed a period off, outside the band.) */
         for (int i = 0; i < 2 && li > 0 && l.n > first_seg; i++) {
             double P = inv->lift[i];
             if (P <= 0 || k[i] != 0)
                 continue;
-            double sh = P * round((l.s[0].p[i] - l.s[first_seg].p[i]) / P);
+            double m0[2], m1[2];
+            seg_extent(m0, l.s, 0, end0, i);
+            seg_extent(m1, l.s, first_seg, l.n, i);
+            double sh = P * round((0.5 * (m0[0] + m0[1]) - 0.5 * (m1[0] + m1[1])) / P);
             for (int s = first_seg; s < l.n; s++) {
                 l.s[s].p[i] += sh;
                 l.s[s].q[i] += sh;

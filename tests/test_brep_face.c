@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "boolean/bool.h"
 #include "brep/face.h"
 #include "brep/prim.h"
 #include "check.h"
@@ -674,6 +675,99 @@ static void test_edge_points_on(void)
     }
 }
 
+/* A hole in a cylinder's side face whose pcurves lie a period away from the outer loop's (a
+ * file writing angles in (-pi, pi] for the hole and [0, 2 pi] for the loop that starts on the
+ * seam): the hole is placed in the outer loop's range (the lift bringing its middle nearest the
+ * outer loop's middle). The face: a unit cylinder (seam at angle 0, 0 <= z <= 4) minus a
+ * radial drill of radius 0.3 at angle 3.6, z = 2, which leaves a hole round that angle; its
+ * pcurves are then moved by -2 pi, to angles about -2.7, nearer the seam at 0 than the seam at
+ * 2 pi. Placed by the outer loop's first point (on the seam at 0), as before, the hole stayed
+ * a period off in both passes (the Boolean's own pcurves put it at -2.7 too), outside the
+ * band: trj6_k1-ec-214's band with a slot was then split into regions whose inner points lay
+ * on its seam, and dropped. */
+static void test_hole_lift(void)
+{
+    const double o[3] = {0, 0, 0}, z[3] = {0, 0, 1}, c[3] = {0, 0, 2}, ang = 3.6;
+    const double mx[3] = {cos(ang), sin(ang), 0};
+    cb_frame fa, fb;
+    cb_topo_body *A = NULL, *B = NULL, *R = NULL;
+    cb_error err;
+    cb_status st = cb_frame_make(&fa, o, z, NULL, &err);
+    if (!st)
+        st = cb_frame_make(&fb, c, mx, NULL, &err);
+    if (!st)
+        st = cb_prim_cylinder(&A, &fa, 1, 4, 0, 0, &err);
+    if (!st)
+        st = cb_prim_cylinder(&B, &fb, 0.3, 2, 0, 0, &err);
+    if (!st)
+        st = cb_bool_run(&R, NULL, CB_BOOL_DIFFERENCE, A, B, NULL, NULL, &err);
+    CHECK(st == CB_OK, "drilled cylinder: %s", err.msg);
+    int side = -1, hole = -1;
+    for (int f = 0; R && f < R->n_faces; f++) {
+        const cb_topo_surface *s = R->surfaces + R->faces[f].surface;
+        if (s->kind == CB_SURFACE_ANALYTIC && s->analytic.kind == CB_ANALYTIC_CYLINDER &&
+            fabs(s->analytic.r1 - 1) < 1e-12 && R->faces[f].count == 2)
+            side = f;
+    }
+    CHECK(side >= 0, "drilled cylinder: no side face with two loops");
+    if (side >= 0) {
+        /* the hole: the loop that does not use the seam (an edge used twice by the face) */
+        const cb_topo_face *fc = R->faces + side;
+        for (int l = fc->first; l < fc->first + fc->count && hole < 0; l++) {
+            int seam = 0;
+            for (int k = R->loops[l].first; k < R->loops[l].first + R->loops[l].count; k++)
+                for (int m = fc->first; m < fc->first + fc->count; m++)
+                    for (int j = R->loops[m].first; j < R->loops[m].first + R->loops[m].count; j++)
+                        seam |= j != k && R->coedges[j].edge == R->coedges[k].edge;
+            if (!seam)
+                hole = l;
+        }
+        CHECK(hole >= 0, "drilled cylinder: no hole loop");
+    }
+    cb_face F;
+    for (int pass = 0; pass < 2 && hole >= 0; pass++) {
+        if (pass == 1)
+            for (int k = R->loops[hole].first; k < R->loops[hole].first + R->loops[hole].count;
+                 k++) {
+                cb_topo_curve *pc = R->pcurves + R->coedges[k].pcurve;
+                if (pc->kind == CB_CURVE_NURBS)
+                    for (int i = 0; i < pc->nurbs->n; i++)
+                        pc->nurbs->cw[4 * i] -= 2 * PI * pc->nurbs->cw[4 * i + 3];
+                else
+                    pc->frame.o[0] -= 2 * PI;
+            }
+        st = cb_face_init(&F, R, side, R->tol, &err);
+        CHECK(st == CB_OK, "drilled cylinder, pass %d: %s", pass, err.msg);
+        if (st)
+            break;
+        /* The outer loop's segments come first (coedges of the loop holding the seam);
+         * every segment of the hole must lie within their range in u. */
+        double lo = HUGE_VAL, hi = -HUGE_VAL, hlo = HUGE_VAL, hhi = -HUGE_VAL;
+        for (int k = 0; k < F.n_segs; k++) {
+            int co = F.segs[k].coedge, in_hole = co >= R->loops[hole].first &&
+                                                 co < R->loops[hole].first + R->loops[hole].count;
+            double a = fmin(F.segs[k].p[0], F.segs[k].q[0]), b = fmax(F.segs[k].p[0], F.segs[k].q[0]);
+            if (co < 0)
+                continue;
+            *(in_hole ? &hlo : &lo) = fmin(in_hole ? hlo : lo, a);
+            *(in_hole ? &hhi : &hi) = fmax(in_hole ? hhi : hi, b);
+        }
+        CHECK(hlo >= lo && hhi <= hi,
+              "drilled cylinder, pass %d: the hole spans u in [%g, %g], the outer loop [%g, %g]",
+              pass, hlo, hhi, lo, hi);
+        /* angle ang, z = 2: in the hole; angle ang, z = 3 and angle pi / 2, z = 2: on the face */
+        CHECK(cb_face_classify_uv(&F, ang, 2, 1e-9) == CB_FACE_OUT &&
+                  cb_face_classify_uv(&F, ang, 3, 1e-9) == CB_FACE_IN &&
+                  cb_face_classify_uv(&F, 0.5 * PI, 2, 1e-9) == CB_FACE_IN,
+              "drilled cylinder, pass %d (hole's pcurves %s): the hole is not where it lies", pass,
+              pass ? "moved by -2 pi" : "as made");
+        cb_face_clear(&F);
+    }
+    cb_topo_body_free(A);
+    cb_topo_body_free(B);
+    cb_topo_body_free(R);
+}
+
 int main(void)
 {
     test_edge_points_on();
@@ -684,5 +778,6 @@ int main(void)
     test_boxes();
     test_models();
     test_bad_input();
+    test_hole_lift();
     return check_report("test_brep_face");
 }
