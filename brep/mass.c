@@ -650,7 +650,12 @@ static cb_status face_integrate(face_result *res, const cb_topo_body *b, int f, 
         for (int cc = lp->first; cc < lp->first + lp->count; cc++, k++) {
             coedge_info *e = &ci[k];
             const cb_topo_edge *ed = &b->edges[b->coedges[cc].edge];
-            cb_topo_coedge_pcurve_range(&e->s0, &e->s1, b, cc, &inv, tol);
+            /* At the edge's own tolerance, as the face's loops are sampled (brep/face.c): a
+             * closed pcurve's way round is the one whose middle lies on the edge, and a
+             * Boolean's cut edge lies that far (its weld distance) from its pcurve's image;
+             * judged at the body's tolerance, the short way round was taken for an edge
+             * running most of the way round a closed B-spline face (trj10_ch1-id-chs). */
+            cb_topo_coedge_pcurve_range(&e->s0, &e->s1, b, cc, &inv, fmax(tol, ed->tol));
             e->map.pc = &b->pcurves[b->coedges[cc].pcurve];
             e->map.curve = &b->curves[ed->curve];
             e->map.t0 = ed->t0;

@@ -9,7 +9,10 @@
  * were refused ("edges of the result could not be sewn") or invalid before the trimming found
  * stretches between a curve's points, exits across seams were unwrapped, cuts across a face
  * corner were kept, curves were split at creases and band faces got seams: the real-parts
- * class of issue 22. Skipped (exit status 77) where ../shared is missing. */
+ * class of issue 22. trj10_ch1-id-chs draw 2 and trj6_k1-ec-214 draws 1 and 2 were refused
+ * until the mass integration took a closed pcurve's way round at its edge's tolerance and a
+ * face's holes were lifted to its outer loop's range. Skipped (exit status 77) where
+ * ../shared is missing. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -63,6 +66,21 @@ static const parts_case CASES[] = {
     {"corpus/step/trj9_io1-sy-214.stp", 2, 33.425959463184668,
      {-0.15636709049764819, 0.046724135386699166, -0.98659322325954879},
      {-4.8188636109080614, -11.879345365078935, 21.17584821169822}, 11111.045668505898, 3.26},
+    /* a cut edge running most of the way round a closed B-spline face: its pcurve's way round
+     * judged at the edge's tolerance in the mass integration */
+    {"corpus/step/trj10_ch1-id-chs.stp", 2, 33.9213379029793,
+     {-0.02383298506630569, -0.8617711418472894, 0.5067370993938063},
+     {1.5273299131335072, -3.082801158217376, -2.760148266083595}, 213.62522143104988, 0.00948},
+    /* a band of revolution with a slot half a turn from its seam: the slot's loop lifted to
+     * the band's range (brep/face.c) */
+    {"corpus/step/trj6_k1-ec-214.stp", 1, 57.393675131325416,
+     {-0.21524722256901632, -0.6466416905412841, 0.7317944774526756},
+     {-0.5004220242724419, 0.051289050668659145, 0.33510474556649533}, 0.015179121442459677,
+     4.62e-05},
+    {"corpus/step/trj6_k1-ec-214.stp", 2, 42.2338781232143,
+     {0.4781939083988315, 0.7699821608901041, -0.4224429640569905},
+     {-0.3747218080931256, -0.45308732098721344, -1.0324196759978346}, 0.012168694500691607,
+     2.04e-05},
 };
 
 static double volume(const cb_topo_body *b, const char *what)
