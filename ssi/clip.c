@@ -515,10 +515,14 @@ static void p_start(double uv[2], const _cb_ssi_pair_geom *g, const double X[3])
     p_project(uv, g, X);
 }
 
-/* The section 4.4 decision for a spline P: X lies on the trimmed patch iff the Dixon
- * inversion has a solution inside the box. Planar patches (no pencil) keep the Newton
- * decision already made. */
-static int keep_piece(const _cb_ssi_pair_geom *g, const double X[3])
+/* The section 4.4 decision for a spline P: the sample's point X lies on the trimmed patch
+ * iff the Dixon inversion has a solution inside the box. Planar patches (no pencil) keep the
+ * Newton decision already made. Where the inversion finds no preimage at all, not even outside
+ * the box, while the sample has one inside it (Newton's, within 10 tol: s->in), the
+ * inversion has failed and that preimage is the witness: a rational conic patch with base
+ * points (a half cylinder of trj2_io1-ca-214) gave no solution for points on it, and a
+ * transversal curve through both patches was dropped from a certified pair. */
+static int keep_piece(const _cb_ssi_pair_geom *g, const sample *s)
 {
     if (g->p_analytic || !g->p_pencil)
         return 1;
@@ -529,8 +533,8 @@ static int keep_piece(const _cb_ssi_pair_geom *g, const double X[3])
     cb_inversion_init(inv);
     cb_error err;
     int in = 1;
-    if (cb_inversion_solve(inv, g->p_pencil, g->p, X, &par, &err) == CB_OK)
-        in = inv->inside;
+    if (cb_inversion_solve(inv, g->p_pencil, g->p, s->X, &par, &err) == CB_OK)
+        in = inv->inside || (inv->n == 0 && s->in);
     cb_inversion_clear(inv);
     return in;
 }
@@ -595,7 +599,7 @@ static cb_status emit(_cb_ssi_piece_set *out, const sample *S, slong a, slong b,
                       slong v0, slong v1, const _cb_ssi_pair_geom *g)
 {
     slong mid = (a + b) / 2;
-    if (!keep_piece(g, S[mid].X))
+    if (!keep_piece(g, S + mid))
         return CB_OK;
     _cb_ssi_piece pc;
     _cb_ssi_piece_init(&pc);
@@ -869,7 +873,7 @@ static cb_status clip_curve(_cb_ssi_piece_set *out, const _cb_ssi_trace_curve *t
     }
     if (tc->isolated) {
         cb_status st = CB_OK;
-        if (S[0].in && keep_piece(g, S[0].X)) {
+        if (S[0].in && keep_piece(g, S)) {
             _cb_ssi_piece pc;
             _cb_ssi_piece_init(&pc);
             pc.isolated = pc.tangential = 1;

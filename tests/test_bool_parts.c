@@ -11,8 +11,9 @@
  * corner were kept, curves were split at creases and band faces got seams: the real-parts
  * class of issue 22. trj10_ch1-id-chs draw 2 and trj6_k1-ec-214 draws 1 and 2 were refused
  * until the mass integration took a closed pcurve's way round at its edge's tolerance and a
- * face's holes were lifted to its outer loop's range. Skipped (exit status 77) where
- * ../shared is missing. */
+ * face's holes were lifted to its outer loop's range, and trj2_io1-ca-214 draws 0 and 1 until
+ * a traced piece with a Newton preimage in the patch was kept where the Dixon inversion finds
+ * none. Skipped (exit status 77) where ../shared is missing. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -66,6 +67,15 @@ static const parts_case CASES[] = {
     {"corpus/step/trj9_io1-sy-214.stp", 2, 33.425959463184668,
      {-0.15636709049764819, 0.046724135386699166, -0.98659322325954879},
      {-4.8188636109080614, -11.879345365078935, 21.17584821169822}, 11111.045668505898, 3.26},
+    /* B-spline half cylinders of rounded conic weights: the algebraic route's clipping kept a
+     * traced piece only where the Dixon inversion found a preimage in the patch, and it found
+     * none at all on them (ssi/clip.c keep_piece; 111 edges left unsewn) */
+    {"corpus/step/trj2_io1-ca-214.stp", 0, 36.905694138528645,
+     {-0.4963696092931887, -0.23447426883943023, 0.8358462946154285},
+     {-7.866084733011483, 10.902088143119492, 22.551197767804222}, 13345.76741062293, 3.16},
+    {"corpus/step/trj2_io1-ca-214.stp", 1, 44.824757299029635,
+     {-0.08270330469190759, 0.6707244486511097, 0.737081323447218},
+     {13.843804932748059, -32.854365100760546, -23.175369807425596}, 10443.04860576789, 3.61},
     /* a cut edge running most of the way round a closed B-spline face: its pcurve's way round
      * judged at the edge's tolerance in the mass integration */
     {"corpus/step/trj10_ch1-id-chs.stp", 2, 33.9213379029793,
