@@ -366,8 +366,8 @@ static cb_status sub_net(cb_nurbs_surface_t out, const cb_nurbs_surface_struct *
  * surface over the pcurves' box itself (grown by the margin), which bounds the face for the
  * face pairs' overlap test; the 3D edges are checked to lie in it. Returns 1 (conv->net, sub
  * and off set); 0 to use the whole surface (the spans reach its ends: tight may still be set;
- * or a coedge has no pcurve reaching its edge's ends, or an edge leaves that box: tight
- * unset); -1 when out of memory. */
+ * or a coedge has no pcurve reaching its edge's ends, a loop does not close in (u, v), or an
+ * edge leaves that box: tight unset); -1 when out of memory. */
 static int restrict_nurbs(face_conv *conv, const cb_topo_surface *ts, const cb_topo_body *b,
                           int face)
 {
@@ -376,10 +376,12 @@ static int restrict_nurbs(face_conv *conv, const cb_topo_surface *ts, const cb_t
     double tol = b->tol > 0 ? b->tol : 1e-7;
     if (cb_topo_inverter_init(&inv, ts, tol, NULL) != CB_OK)
         return -1;
-    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
+    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL}, dom[4];
+    cb_nurbs_surface_domain(s, dom);
     const cb_topo_face *f = b->faces + face;
     int ok = 1;
-    for (int l = f->first; ok && l < f->first + f->count; l++)
+    for (int l = f->first; ok && l < f->first + f->count; l++) {
+        double first[3] = {0, 0, 0}, prev[3] = {0, 0, 0};
         for (int c = b->loops[l].first; ok && c < b->loops[l].first + b->loops[l].count; c++) {
             const cb_topo_coedge *ce = b->coedges + c;
             double etol = fmax(tol, b->edges[ce->edge].tol), s0, s1;
@@ -387,8 +389,20 @@ static int restrict_nurbs(face_conv *conv, const cb_topo_surface *ts, const cb_t
             if (!ok)
                 break;
             const cb_topo_curve *pc = b->pcurves + ce->pcurve;
-            double pt[3][3];
+            double pt[3][3], e0[3];
             int np = 0;
+            /* The loops must close in (u, v): one that jumps by a period of a closed surface
+             * winds round it, and the face reaches beyond its box (a cap round a pole). */
+            cb_topo_pcurve_eval(e0, pc, s0);
+            if (c == b->loops[l].first)
+                memcpy(first, e0, sizeof first);
+            else
+                ok = fabs(e0[0] - prev[0]) <= 0.25 * (dom[1] - dom[0]) &&
+                     fabs(e0[1] - prev[1]) <= 0.25 * (dom[3] - dom[2]);
+            cb_topo_pcurve_eval(prev, pc, s1);
+            if (c + 1 == b->loops[l].first + b->loops[l].count)
+                ok &= fabs(first[0] - prev[0]) <= 0.25 * (dom[1] - dom[0]) &&
+                      fabs(first[1] - prev[1]) <= 0.25 * (dom[3] - dom[2]);
             if (pc->kind == CB_CURVE_NURBS) {
                 const cb_nurbs_curve_struct *n = pc->nurbs;
                 for (int i = 0; i < n->n; i++) {
@@ -416,9 +430,9 @@ static int restrict_nurbs(face_conv *conv, const cb_topo_surface *ts, const cb_t
                     hi[d] = fmax(hi[d], pt[k][d]);
                 }
         }
+    }
     cb_topo_inverter_clear(&inv);
-    double dom[4], cut[4];
-    cb_nurbs_surface_domain(s, dom);
+    double cut[4];
     int whole = 1;
     for (int d = 0; ok && d < 2; d++) {
         const double *U = d ? s->knots_v : s->knots_u;
