@@ -171,7 +171,7 @@ static cb_status sample_loops(cb_face *f, int (*wraps)[2], cb_error *err)
          * that brings their middle nearest the first loop's middle. (The first loop's first
          * point, used before, lies at the range's end on a band whose outer loop starts on
          * its seam: a slot half a period away was placed a period off, outside the band.) */
-        for (int i = 0; i < 2 && li > 0 && l.n > first_seg; i++) {
+        for (int i = 0; i < 2 && li > 0 && end0 > 0 && l.n > first_seg; i++) {
             double P = inv->lift[i];
             if (P <= 0 || k[i] != 0)
                 continue;
