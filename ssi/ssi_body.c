@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "brep/bbox.h"
+#include "brep/face.h"
 #include "brep/parallel.h"
 #include "ssi/ssi.h"
 
@@ -62,9 +63,10 @@ typedef struct {
     double range[4];          /* its parameter box that net covers */
     cb_nurbs_surface_t net;   /* cb_topo_surface_to_nurbs(s, range), or the restriction */
     int sub;                  /* 1: net is s's B-spline over fewer knot spans (same
-                                 parameters); patch (i, j) of net is (i + off[0], j + off[1])
-                                 of s's, of which there are npv along v */
-    int off[2], npv;
+                                 parameters); patch (i, j) of net, of which there are
+                                 sub_npv along v, is (i + off[0], j + off[1]) of s's, of which
+                                 there are npv along v */
+    int off[2], npv, sub_npv;
     int has_tight;  /* tight is set: the box of s over its loops' (u, v) box */
     cb_aabb tight;
 } face_conv;
@@ -323,32 +325,21 @@ static int spans_below(const double *U, int n, int p, double x)
 }
 
 /* out = s over the parameter box {u0, u1, v0, v1} inside its domain, by knot insertion
- * (cb_nurbs_surface_split): the same surface and parameters. */
+ * (cb_nurbs_surface_split, in place): the same surface and parameters. */
 static cb_status sub_net(cb_nurbs_surface_t out, const cb_nurbs_surface_struct *s,
                          const double box[4])
 {
     double dom[4];
     cb_nurbs_surface_domain(s, dom);
-    cb_nurbs_surface_t t, rest;
-    cb_nurbs_surface_init(t);
+    cb_nurbs_surface_t rest;
     cb_nurbs_surface_init(rest);
-    cb_status st = cb_nurbs_surface_set(t, s, NULL);
+    cb_status st = cb_nurbs_surface_set(out, s, NULL);
     for (int d = 0; d < 2 && st == CB_OK; d++) {
-        cb_dir dir = d ? CB_DIR_V : CB_DIR_U;
-        if (box[2 * d] > dom[2 * d]) {
-            st = cb_nurbs_surface_split(rest, out, t, dir, box[2 * d], NULL);
-            if (st == CB_OK)
-                cb_nurbs_surface_swap(t, out);
-        }
-        if (st == CB_OK && box[2 * d + 1] < dom[2 * d + 1]) {
-            st = cb_nurbs_surface_split(out, rest, t, dir, box[2 * d + 1], NULL);
-            if (st == CB_OK)
-                cb_nurbs_surface_swap(t, out);
-        }
+        if (box[2 * d] > dom[2 * d])
+            st = cb_nurbs_surface_split(rest, out, out, (cb_dir)d, box[2 * d], NULL);
+        if (st == CB_OK && box[2 * d + 1] < dom[2 * d + 1])
+            st = cb_nurbs_surface_split(out, rest, out, (cb_dir)d, box[2 * d + 1], NULL);
     }
-    if (st == CB_OK)
-        cb_nurbs_surface_swap(t, out);
-    cb_nurbs_surface_clear(t);
     cb_nurbs_surface_clear(rest);
     return st;
 }
@@ -432,7 +423,7 @@ static int restrict_nurbs(face_conv *conv, const cb_topo_surface *ts, const cb_t
         }
     }
     cb_topo_inverter_clear(&inv);
-    double cut[4];
+    double cut[4], tight[4];
     int whole = 1;
     for (int d = 0; ok && d < 2; d++) {
         const double *U = d ? s->knots_v : s->knots_u;
@@ -440,6 +431,8 @@ static int restrict_nurbs(face_conv *conv, const cb_topo_surface *ts, const cb_t
         double m = RESTRICT_MARGIN * (dom[2 * d + 1] - dom[2 * d]);
         double a = lo[d] - m, z = hi[d] + m;
         ok = isfinite(a) && isfinite(z);
+        tight[2 * d] = fmax(dom[2 * d], a);
+        tight[2 * d + 1] = fmin(dom[2 * d + 1], z);
         cut[2 * d] = dom[2 * d];
         cut[2 * d + 1] = dom[2 * d + 1];
         for (int i = p; ok && i <= n + 1; i++)
@@ -453,26 +446,14 @@ static int restrict_nurbs(face_conv *conv, const cb_topo_surface *ts, const cb_t
     }
     if (!ok)
         return 0;
-    /* The box of the surface over the loops' own (u, v) box, for the face pairs' culling:
-     * a face trimmed out of one span (a single Bezier patch) is not restricted, but its
-     * box is still that of its part. */
-    double tight[4];
-    for (int d = 0; d < 2; d++) {
-        double m = RESTRICT_MARGIN * (dom[2 * d + 1] - dom[2 * d]);
-        tight[2 * d] = fmax(dom[2 * d], lo[d] - m);
-        tight[2 * d + 1] = fmin(dom[2 * d + 1], hi[d] + m);
-    }
+    /* The box of the surface over the loops' own (u, v) box (cb_face_surface_box: the
+     * sub-patch's control points), for the face pairs' culling: a face trimmed out of one
+     * span (a single Bezier patch) is not restricted, but its box is still that of its part. */
     if (tight[0] < tight[1] && tight[2] < tight[3]) {
-        cb_nurbs_surface_t part;
-        cb_nurbs_surface_init(part);
-        cb_status ts_ = sub_net(part, s, tight);
-        if (ts_ == CB_OK) {
-            cb_nurbs_surface_aabb(&conv->tight, part);
-            conv->has_tight = 1;
-        }
-        cb_nurbs_surface_clear(part);
-        if (ts_ == CB_ERR_NOMEM)
+        cb_status bs = cb_face_surface_box(&conv->tight, ts, tight, NULL);
+        if (bs == CB_ERR_NOMEM)
             return -1;
+        conv->has_tight = bs == CB_OK;
     }
     /* The pcurves agree with their edges at the ends (cb_topo_coedge_pcurve_range); their
      * middles are checked here: every edge sample must lie in that box (within the edge's
@@ -501,6 +482,7 @@ static int restrict_nurbs(face_conv *conv, const cb_topo_surface *ts, const cb_t
     conv->off[0] = spans_below(s->knots_u, s->n_u, s->deg_u, cut[0]);
     conv->off[1] = spans_below(s->knots_v, s->n_v, s->deg_v, cut[2]);
     conv->npv = spans_below(s->knots_v, s->n_v, s->deg_v, dom[3]);
+    conv->sub_npv = spans_below(s->knots_v, s->n_v, s->deg_v, cut[3]) - conv->off[1];
     return 1;
 }
 
@@ -663,8 +645,7 @@ static void reparam(cb_ssi_result_t r, int side, const face_conv *conv)
  * surface (cb_nurbs_surface_extract_bezier's order, u outer); -1 stays -1. */
 static int whole_patch(int p, const face_conv *conv)
 {
-    const cb_nurbs_surface_struct *n = conv->net;
-    int nv = spans_below(n->knots_v, n->n_v, n->deg_v, n->knots_v[n->n_v]);
+    int nv = conv->sub_npv;
     return p < 0 ? p : (p / nv + conv->off[0]) * conv->npv + p % nv + conv->off[1];
 }
 

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "boolean/bool.h"
+#include "brep/geom.h"
 #include "brep/prim.h"
 #include "check.h"
 
@@ -366,21 +367,10 @@ static void test_restricted_spans(void)
                 for (int s = 0; s < 2; s++) {
                     const cb_ssi_curve *p = s ? w->curve : r->curve, *q = s ? r->curve : w->curve;
                     for (slong i = 0; i < p->n; i++) {
-                        double best = HUGE_VAL;
-                        for (slong j = 0; j + 1 < q->n; j++) {
-                            const double *a = q->pt[j].xyz, *b = q->pt[j + 1].xyz;
-                            double ab[3], ap[3], t = 0, l2 = 0, d2 = 0;
-                            for (int x = 0; x < 3; x++) {
-                                ab[x] = b[x] - a[x];
-                                ap[x] = p->pt[i].xyz[x] - a[x];
-                                t += ab[x] * ap[x];
-                                l2 += ab[x] * ab[x];
-                            }
-                            t = l2 > 0 ? fmin(1, fmax(0, t / l2)) : 0;
-                            for (int x = 0; x < 3; x++)
-                                d2 += (ap[x] - t * ab[x]) * (ap[x] - t * ab[x]);
-                            best = fmin(best, sqrt(d2));
-                        }
+                        double best = HUGE_VAL, l;
+                        for (slong j = 0; j + 1 < q->n; j++)
+                            best = fmin(best, cb_seg3_nearest(&l, q->pt[j].xyz,
+                                                              q->pt[j + 1].xyz, p->pt[i].xyz));
                         dmax = fmax(dmax, best);
                     }
                 }

@@ -742,19 +742,19 @@ static void test_hole_lift(void)
             break;
         /* The outer loop's segments come first (coedges of the loop holding the seam);
          * every segment of the hole must lie within their range in u. */
-        double lo = HUGE_VAL, hi = -HUGE_VAL, hlo = HUGE_VAL, hhi = -HUGE_VAL;
+        double ext[2][2] = {{HUGE_VAL, -HUGE_VAL}, {HUGE_VAL, -HUGE_VAL}}; /* outer, hole */
         for (int k = 0; k < F.n_segs; k++) {
-            int co = F.segs[k].coedge, in_hole = co >= R->loops[hole].first &&
-                                                 co < R->loops[hole].first + R->loops[hole].count;
-            double a = fmin(F.segs[k].p[0], F.segs[k].q[0]), b = fmax(F.segs[k].p[0], F.segs[k].q[0]);
+            int co = F.segs[k].coedge;
             if (co < 0)
                 continue;
-            *(in_hole ? &hlo : &lo) = fmin(in_hole ? hlo : lo, a);
-            *(in_hole ? &hhi : &hi) = fmax(in_hole ? hhi : hi, b);
+            double *e = ext[co >= R->loops[hole].first &&
+                            co < R->loops[hole].first + R->loops[hole].count];
+            e[0] = fmin(e[0], fmin(F.segs[k].p[0], F.segs[k].q[0]));
+            e[1] = fmax(e[1], fmax(F.segs[k].p[0], F.segs[k].q[0]));
         }
-        CHECK(hlo >= lo && hhi <= hi,
+        CHECK(ext[1][0] >= ext[0][0] && ext[1][1] <= ext[0][1],
               "drilled cylinder, pass %d: the hole spans u in [%g, %g], the outer loop [%g, %g]",
-              pass, hlo, hhi, lo, hi);
+              pass, ext[1][0], ext[1][1], ext[0][0], ext[0][1]);
         /* angle ang, z = 2: in the hole; angle ang, z = 3 and angle pi / 2, z = 2: on the face */
         CHECK(cb_face_classify_uv(&F, ang, 2, 1e-9) == CB_FACE_OUT &&
                   cb_face_classify_uv(&F, ang, 3, 1e-9) == CB_FACE_IN &&
