@@ -708,13 +708,21 @@ static int mid_sample(sample *m, const sample *a, const sample *b, const _cb_ssi
     m->in = inside_p(g, &pq, m->gap);
     /* The refinement moves Q's parameters too and may slide along the curve, away from the
      * chord between a and b (seen next to a rational P's seam): such a sample is not between
-     * them. */
-    int slid = 0;
+     * them. It must stay in the chord's box widened by half the chord's extent in its longer
+     * direction, in both directions: the Newton step onto the curve is across the chord, and
+     * where the chord runs nearly along one parameter line its extent in the other is next
+     * to nothing (a curve running round a cylinder), so a box widened per direction would
+     * call the step across it a slide and drop the piece between a and b. */
+    double lo[2], hi[2], w = 0;
     for (int i = 0; i < 2; i++) {
-        double lo = fmin(a->pq.st[i], b->pq.st[i]), hi = fmax(a->pq.st[i], b->pq.st[i]);
-        double w = 0.5 * (hi - lo) + 1e-12;
-        slid |= !(pq.st[i] >= lo - w && pq.st[i] <= hi + w);
+        lo[i] = fmin(a->pq.st[i], b->pq.st[i]);
+        hi[i] = fmax(a->pq.st[i], b->pq.st[i]);
+        w = fmax(w, 0.5 * (hi[i] - lo[i]));
     }
+    w += 1e-12;
+    int slid = 0;
+    for (int i = 0; i < 2; i++)
+        slid |= !(pq.st[i] >= lo[i] - w && pq.st[i] <= hi[i] + w);
     return slid;
 }
 

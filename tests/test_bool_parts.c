@@ -13,7 +13,8 @@
  * until the mass integration took a closed pcurve's way round at its edge's tolerance and a
  * face's holes were lifted to its outer loop's range, and trj2_io1-ca-214 draws 0 and 1 until
  * a traced piece with a Newton preimage in the patch was kept where the Dixon inversion finds
- * none. Skipped (exit status 77) where ../shared is missing. */
+ * none, and OCC2368 draw 0 until the clipping's slide test measured the chord by its longer
+ * extent. Skipped (exit status 77) where ../shared is missing. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -45,6 +46,13 @@ static const parts_case CASES[] = {
     {"models/ujoint_fork.step", 2, 52.800408255541207,
      {0.62182171857205604, -0.71284971582884793, 0.32431933792918599},
      {-2.2926651532806108, 22.19238216392527, -0.07293354911127127}, 12403.692005598446, 4.15},
+    /* a cone band 0.0144 wide crossed by a cylinder: the clipping's sample between two
+     * outside ones was called slid off the chord (the chord runs round the cylinder, its
+     * extent along the axis next to nothing) and the piece across the band was dropped from a
+     * certified pair (ssi/clip.c mid_sample; 11 edges unsewn) */
+    {"corpus/step/OCC2368.stp", 0, 29.47190716036811,
+     {0.8068445164274971, -0.1128827286597875, -0.5798787941296},
+     {-15.880481888939928, 56.25369611953998, -11.620395912651759}, 98461.37196170723, 21.1},
     {"corpus/step/OCC2368.stp", 1, 8.2143832470671434,
      {0.45614142115039424, 0.58531217032409555, -0.67033175904278597},
      {19.910091179598876, -24.433506812979939, -31.288642882010762}, 88864.159544235052, 17},
