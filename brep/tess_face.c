@@ -82,16 +82,19 @@ static int same_uv(const double a[2], const double b[2])
            fabs(a[1] - b[1]) <= 1e-9 * (1 + fabs(a[1]));
 }
 
-/* The shift by whole lifts that brings a onto b, if there is one other than zero. */
+/* The shift by whole lifts that brings a onto b, if there is one other than zero: a + shift
+ * and b the same point of (u, v), or joined on the surface within gap_tol (two coedges
+ * meeting at a vertex welded within the edges' tolerance, their pcurves' ends apart by it). */
 static int lifted_onto(double shift[2], const double a[2], const double b[2],
-                       const cb_topo_inverter *inv)
+                       const cb_topo_inverter *inv, double gap_tol)
 {
     double c[2];
     for (int i = 0; i < 2; i++) {
         shift[i] = inv->lift[i] > 0 ? inv->lift[i] * nearbyint((b[i] - a[i]) / inv->lift[i]) : 0;
         c[i] = a[i] + shift[i];
     }
-    return (shift[0] != 0 || shift[1] != 0) && same_uv(c, b);
+    return (shift[0] != 0 || shift[1] != 0) &&
+           (same_uv(c, b) || cb_topo_inverter_spread(inv, c, b) <= gap_tol);
 }
 
 /* Whether a derivative of the surface vanishes at (u, v) against the other: a pole or apex. */
@@ -140,7 +143,7 @@ static cb_status coedge_points(face_loops *L, const cb_topo_body *b, int c,
             if (k == 0 && have_prev && !same_uv(guess, prev) &&
                 cb_topo_inverter_spread(inv, prev, guess) > gap_tol) {
                 double sh[2];
-                if (lifted_onto(sh, guess, prev, inv)) {
+                if (lifted_onto(sh, guess, prev, inv, gap_tol)) {
                     shift[0] = sh[0];
                     shift[1] = sh[1];
                 }
@@ -212,7 +215,7 @@ static cb_status build_loops(face_loops *L, const cb_topo_body *b, int face,
                 L->n--;
             else if (cb_topo_inverter_spread(inv, a, z) <= gap_tol)
                 ; /* closed along a pole line: the closing segment runs on the collapsed line */
-            else if (lifted_onto(sh, a, z, inv))
+            else if (lifted_onto(sh, a, z, inv, gap_tol))
                 return cb_error_set(err, CB_ERR_UNSUPPORTED,
                                     "loop %d wraps around the periodic surface without a seam "
                                     "edge",
