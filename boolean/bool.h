@@ -173,13 +173,18 @@ double cb_bool_cut_project(double *pos, const cb_bool_cut *c, const double p[3],
  * chord in (u, v) crosses a face's loops (cb_face_chord_crossings), between the crossings;
  * where a curve leaves a face its exit is found by bisection along the polyline segment
  * (points, parameters and positions interpolated linearly, so the exit lies on the face
- * boundary up to the polyline's chord error). A piece shorter than CB_BOOL_WELD tol (tol in
- * model units, > 0) that is not closed is dropped: a curve that only grazes a corner. Tangents: the cross product of the face normals, or where the faces are tangent
- * (their normals within 1e-6 rad) the central difference of the points; in (u, v) the least
- * squares solution of J duv = dir (J the surface Jacobian), or the central difference where J
- * is singular (a pole). Cut ends within CB_BOOL_WELD tol of an earlier cut's end are moved
- * onto it (curves meeting at a node, computed from two face pairs; never both ends of one cut
- * onto one point), their parameters found again by inversion. Errors: CB_ERR_INVALID for tol, CB_ERR_NOMEM (out is then cleared). */
+ * boundary up to the polyline's chord error). An open piece no longer than tol (tol in model
+ * units, > 0), or one made only of points added at loop crossings (none of the curve's own)
+ * and no longer than CB_BOOL_SNAP tol, is dropped: a curve that only grazes a corner. Tangents:
+ * the cross product of the face normals, or where the faces are tangent (their normals within
+ * 1e-6 rad) the central difference of the points; in (u, v) the least squares solution of
+ * J duv = dir (J the surface Jacobian), or the central difference where J is singular (a
+ * pole). Cut ends within CB_BOOL_WELD tol of an earlier cut's end are moved onto it (curves
+ * meeting at a node, computed from two face pairs; never both ends of one cut onto one
+ * point), their parameters found again by inversion; on a face both cuts share, where the
+ * moved end lay on the face's boundary (a boundary edge within CB_BOOL_SNAP tol, or a seam)
+ * and the earlier one does not, both take the moved end's (u, v) there (not at a pole).
+ * Errors: CB_ERR_INVALID for tol, CB_ERR_NOMEM (out is then cleared). */
 cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
                             const cb_bool_solid *A, const cb_bool_solid *B, double tol,
                             cb_error *err);

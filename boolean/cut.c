@@ -166,6 +166,24 @@ static double window_lo(const cb_face *f, int i)
     return spans_period(a, b, P) ? a : 0.5 * (a + b) - 0.5 * P;
 }
 
+/* Whether (u, v) lies on the boundary of the face's split: within near of a boundary edge
+ * (cb_face_classify_uv ON), or on a window's end where the face spans the whole period (its
+ * seam, which the split's loop polygon has on both ends of the window). */
+static int on_split_boundary(const cb_face *f, const double uv[2], double near)
+{
+    if (cb_face_classify_uv(f, uv[0], uv[1], near) == CB_FACE_ON)
+        return 1;
+    for (int d = 0; d < 2; d++) {
+        double P = f->inv.period[d], a, b;
+        if (!(P > 0))
+            continue;
+        loop_extent(&a, &b, f, d);
+        if (spans_period(a, b, P) && fabs(remainder(uv[d] - a, P)) <= SEAM_BAND * P)
+            return 1;
+    }
+    return 0;
+}
+
 static double wrap(double x, double lo, double P)
 {
     double w = lo + fmod(x - lo, P);
@@ -893,38 +911,53 @@ cb_status cb_bool_cut_curve(cb_topo_curve *out, const cb_bool_cut *c, int side, 
  * reach it from two face pairs computed apart, so their ends differ by up to the polyline's
  * chord error. Ends within weld of an earlier end (in cut order) are moved onto it, their
  * parameters found again on both faces from the old ones, so that the pieces sewn at the node
- * meet in (u, v) as well as in space. */
+ * meet in (u, v) as well as in space. Where the moved end lay on the boundary of a face the
+ * two cuts share (within near) and the earlier end does not, both ends take the moved end's
+ * (u, v) on that face: the node is where the curve leaves that face. Two vertices closer than
+ * weld (an edge of one operand passing that close to an edge or seam of the other) weld into
+ * one, so in that face's split the node must lie on its boundary too, or the cut ending there
+ * would end short of it and the region it closes stay open. */
 static void snap_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_solid *B,
-                      double weld)
+                      double weld, double near)
 {
     for (int k = 0; k < out->n; k++) {
         cb_bool_cut *c = out->cut + k;
         if (c->closed)
             continue;
+        const cb_face *f[2] = {cb_bool_solid_face(A, c->face[0]),
+                               cb_bool_solid_face(B, c->face[1])};
         int moved = 0;
         for (int e = 0; e < 2; e++) {
             int i = e ? c->n - 1 : 0;
             double *x = c->xyz + 3 * i;
             const double *to = NULL;
+            cb_bool_cut *d = NULL;
+            int dj = 0;
             for (int j = 0; j < k && !to; j++) {
-                const cb_bool_cut *d = out->cut + j;
+                d = out->cut + j;
                 if (d->closed)
                     continue;
-                for (int f = 0; f < 2 && !to; f++) {
-                    const double *y = d->xyz + 3 * (f ? d->n - 1 : 0);
+                for (int h = 0; h < 2 && !to; h++) {
+                    const double *y = d->xyz + 3 * (h ? d->n - 1 : 0);
                     const double *other = c->xyz + 3 * (e ? 0 : c->n - 1);
                     double g[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
                     /* A cut shorter than weld keeps its ends apart: both on one node would
                      * fold it onto itself. */
-                    if (norm3(g) <= weld && norm3(g) > 0 && memcmp(y, other, 3 * sizeof *y))
+                    if (norm3(g) <= weld && norm3(g) > 0 && memcmp(y, other, 3 * sizeof *y)) {
                         to = y;
+                        dj = h ? d->n - 1 : 0;
+                    }
                 }
             }
             if (!to)
                 continue;
+            double old[2][2];
+            int on[2];
+            for (int s = 0; s < 2; s++) {
+                memcpy(old[s], c->uv[s] + 2 * i, sizeof old[s]);
+                on[s] = on_split_boundary(f[s], old[s], near);
+            }
             memcpy(x, to, 3 * sizeof(double));
-            const cb_face *f[2] = {cb_bool_solid_face(A, c->face[0]),
-                                   cb_bool_solid_face(B, c->face[1])};
             for (int s = 0; s < 2; s++) {
                 double guess[2] = {c->uv[s][2 * i], c->uv[s][2 * i + 1]};
                 double *uv = c->uv[s] + 2 * i;
@@ -933,21 +966,41 @@ static void snap_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_s
                  * parameter the cut arrived with (settle_poles) */
                 double dd[6][3];
                 cb_topo_inverter_eval_derivs(dd, &f[s]->inv, uv[0], uv[1]);
-                for (int d = 0; d < 2; d++) {
-                    double P = f[s]->inv.period[d];
-                    if (norm3(dd[1 + d]) <= 1e-9 * norm3(dd[2 - d]))
-                        uv[d] = guess[d];
-                    else if (P > 0)
-                        uv[d] += P * nearbyint((guess[d] - uv[d]) / P);
+                int pole = 0;
+                for (int q = 0; q < 2; q++) {
+                    double P = f[s]->inv.period[q];
+                    if (norm3(dd[1 + q]) <= 1e-9 * norm3(dd[2 - q])) {
+                        uv[q] = guess[q];
+                        pole = 1;
+                    } else if (P > 0) {
+                        uv[q] += P * nearbyint((guess[q] - uv[q]) / P);
+                    }
+                }
+                /* (at a pole the node's (u, v) is the line the cuts arrive on, each its own) */
+                if (!on[s] || pole || d->face[s] != c->face[s])
+                    continue;
+                double *ud = d->uv[s] + 2 * dj;
+                if (!on_split_boundary(f[s], ud, near)) {
+                    for (int q = 0; q < 2; q++) {
+                        double P = f[s]->inv.period[q], u = old[s][q];
+                        if (P > 0)
+                            u += P * nearbyint((ud[q] - u) / P);
+                        ud[q] = u;
+                    }
+                    const cb_face *fd[2] = {cb_bool_solid_face(A, d->face[0]),
+                                            cb_bool_solid_face(B, d->face[1])};
+                    tangents(d, fd);
+                }
+                /* one point of (u, v), in the lift the cut had */
+                for (int q = 0; q < 2; q++) {
+                    double P = f[s]->inv.period[q];
+                    uv[q] = ud[q] + (P > 0 ? P * nearbyint((old[s][q] - ud[q]) / P) : 0);
                 }
             }
             moved = 1;
         }
-        if (moved) {
-            const cb_face *f[2] = {cb_bool_solid_face(A, c->face[0]),
-                                   cb_bool_solid_face(B, c->face[1])};
+        if (moved)
             tangents(c, f);
-        }
     }
 }
 
@@ -1055,7 +1108,7 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
     if (!st)
         st = _cb_cuts_imprint(out, r, A, B, tol, err);
     if (!st)
-        snap_ends(out, A, B, CB_BOOL_WELD * tol);
+        snap_ends(out, A, B, CB_BOOL_WELD * tol, CB_BOOL_SNAP * tol);
     if (st)
         cb_bool_cuts_clear(out);
     return st;
