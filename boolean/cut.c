@@ -194,6 +194,12 @@ static double wrap(double x, double lo, double P)
     return w;
 }
 
+/* x moved by whole periods P to the lift nearest ref (x itself when P is not positive). */
+static double lift_near(double x, double ref, double P)
+{
+    return P > 0 ? x + P * nearbyint((ref - x) / P) : x;
+}
+
 static int length_over(const cut_run *r, double min_len)
 {
     double len = 0;
@@ -314,8 +320,7 @@ static void unwrap_next(cut_pt *b, const cut_ctx *cx, const cut_pt *a)
 {
     for (int s = 0; s < 2; s++)
         for (int d = 0; d < 2; d++)
-            if (cx->P[s][d] > 0)
-                b->uv[s][d] += cx->P[s][d] * nearbyint((a->uv[s][d] - b->uv[s][d]) / cx->P[s][d]);
+            b->uv[s][d] = lift_near(b->uv[s][d], a->uv[s][d], cx->P[s][d]);
 }
 
 /* Bisection on the curve between a (where before(a) holds) and b (where it does not): the
@@ -972,8 +977,8 @@ static void snap_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_s
                     if (norm3(dd[1 + q]) <= 1e-9 * norm3(dd[2 - q])) {
                         uv[q] = guess[q];
                         pole = 1;
-                    } else if (P > 0) {
-                        uv[q] += P * nearbyint((guess[q] - uv[q]) / P);
+                    } else {
+                        uv[q] = lift_near(uv[q], guess[q], P);
                     }
                 }
                 /* (at a pole the node's (u, v) is the line the cuts arrive on, each its own) */
@@ -981,21 +986,15 @@ static void snap_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_s
                     continue;
                 double *ud = d->uv[s] + 2 * dj;
                 if (!on_split_boundary(f[s], ud, near)) {
-                    for (int q = 0; q < 2; q++) {
-                        double P = f[s]->inv.period[q], u = old[s][q];
-                        if (P > 0)
-                            u += P * nearbyint((ud[q] - u) / P);
-                        ud[q] = u;
-                    }
+                    for (int q = 0; q < 2; q++)
+                        ud[q] = lift_near(old[s][q], ud[q], f[s]->inv.period[q]);
                     const cb_face *fd[2] = {cb_bool_solid_face(A, d->face[0]),
                                             cb_bool_solid_face(B, d->face[1])};
                     tangents(d, fd);
                 }
                 /* one point of (u, v), in the lift the cut had */
-                for (int q = 0; q < 2; q++) {
-                    double P = f[s]->inv.period[q];
-                    uv[q] = ud[q] + (P > 0 ? P * nearbyint((old[s][q] - ud[q]) / P) : 0);
-                }
+                for (int q = 0; q < 2; q++)
+                    uv[q] = lift_near(ud[q], old[s][q], f[s]->inv.period[q]);
             }
             moved = 1;
         }
