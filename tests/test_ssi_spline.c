@@ -250,6 +250,42 @@ static void test_enclosure(void)
         }
     }
     CHECK(bad == 0, "rational: %d enclosure or evaluation failures", bad);
+    /* A rational patch of bidegree (6, 10), as CAD systems write sweeps: at a point the
+     * enclosure holds the point evaluation and stays near round-off (interval de Casteljau in
+     * the difference form alone widens by 1 + 2t per step, about 1e-9 here, too wide for the
+     * root proofs of the boundary points). */
+    double hk_u[14], hk_v[22], hp[3 * 77], hw[77];
+    for (int k = 0; k < 14; k++)
+        hk_u[k] = k < 7 ? 0 : 1;
+    for (int k = 0; k < 22; k++)
+        hk_v[k] = k < 11 ? 0 : 1;
+    for (int k = 0; k < 77; k++) {
+        for (int q = 0; q < 3; q++)
+            hp[3 * k + q] = check_rng_uniform(&rng, 2, 8);
+        hw[k] = check_rng_uniform(&rng, 0.9, 1.1);
+    }
+    cb_nurbs_surface_t hs;
+    cb_nurbs_surface_init(hs);
+    cb_nurbs_surface_make(hs, 6, 10, hk_u, 14, hk_v, 22, hp, hw, 7, 11, &err);
+    _cb_ssi_bez hb;
+    CHECK(_cb_ssi_bez_set(&hb, hs, &err) == CB_OK && hb.rat == 1, "(6, 10) patch: %s", err.msg);
+    double widest = 0;
+    bad = 0;
+    for (int trial = 0; trial < 500 && hb.rat; trial++) {
+        double u = check_rng_uniform(&rng, 0, 1), v = check_rng_uniform(&rng, 0, 1);
+        _cb_iv X[3], Xu[3], Xv[3];
+        _cb_ssi_bez_eval_iv(X, Xu, Xv, &hb, _cb_iv_pt(u), _cb_iv_pt(v));
+        double p[3], pu[3], pv[3];
+        _cb_ssi_bez_eval(p, pu, pv, &hb, u, v);
+        for (int q = 0; q < 3; q++) {
+            bad += !(p[q] >= X[q].lo - 1e-14 && p[q] <= X[q].hi + 1e-14);
+            widest = fmax(widest, X[q].hi - X[q].lo);
+        }
+    }
+    CHECK(bad == 0 && widest < 1e-12,
+          "(6, 10) patch at points: %d enclosure failures, widest enclosure %.3g", bad, widest);
+    _cb_ssi_bez_clear(&hb);
+    cb_nurbs_surface_clear(hs);
     _cb_ssi_bez_clear(&rb);
     _cb_ssi_bez_clear(&b);
     cb_nurbs_surface_clear(s);
