@@ -712,6 +712,16 @@ typedef struct {
 cb_status _cb_ssi_analytic_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
                                 const cb_ssi_surface *B, int face_a, int face_b,
                                 const cb_ssi_opts *opts, cb_error *err);
+/* An analytic/NURBS pair (either way round) whose phi, the analytic implicit equation of
+ * degree N (plane 1, quadrics 2, torus 4) substituted into the B-spline's patches, would have a
+ * degree above opts->max_phi_degree: the analytic side over its range (an unbounded direction
+ * limited to the B-spline's box) written as its exact rational B-spline (cb_analytic_to_nurbs_exact) and the
+ * pair run as NURBS/NURBS, where the subdivision route takes the patch pairs of high degree;
+ * the analytic side's parameters, region boxes and distances are its own again in the result
+ * (ssi_analytic.c). */
+cb_status _cb_ssi_analytic_as_nurbs(cb_ssi_result_t r, const cb_ssi_surface *A,
+                                    const cb_ssi_surface *B, int face_a, int face_b,
+                                    const cb_ssi_opts *opts, cb_error *err);
 /* The same where img[k] (may be NULL) is the B-spline that side k stands for: the curves are
  * clipped to that B-spline's image (its domain, by point inversion) instead of the analytic
  * range, their parameters on that side are the B-spline's, and only the closed forms run (a

@@ -1107,8 +1107,8 @@ static int param_degree(const cb_analytic_surface *a)
 }
 
 /* The side converted to NURBS (1: B) gets its own parameters back: each output point, and each
- * mark whose parameters are that side's, inverted onto the analytic surface; patch indices of
- * that side become -1. */
+ * mark whose parameters are that side's, inverted onto the analytic surface, region boxes
+ * mapped; patch indices of that side become -1. */
 static void general_fix(cb_ssi_result_t t, const asurf *q, int side)
 {
     for (slong c = 0; c < t->n_curves; c++)
@@ -1127,6 +1127,22 @@ static void general_fix(cb_ssi_result_t t, const asurf *q, int side)
     }
     for (slong k = 0; k < t->n_coincident; k++)
         *(side ? &t->coincident[k].patch_b : &t->coincident[k].patch_a) = -1;
+    /* Region boxes: the B-spline parameters of an arc direction of the exact form (the
+     * parallels, and the meridians of spheres, ellipsoids and tori) map monotonically onto the
+     * angles (cb_nurbs_arc_angle); the linear directions are the analytic ones. */
+    for (slong k = 0; k < t->n_regions; k++) {
+        cb_ssi_region *g = t->region + k;
+        double *b = side ? g->box_b : g->box_a;
+        *(side ? &g->patch_b : &g->patch_a) = -1;
+        cb_analytic_kind kd = q->a->kind;
+        for (int d = 0; d < 2; d++)
+            if (d == 0 ? kd != CB_ANALYTIC_PLANE
+                       : (kd == CB_ANALYTIC_SPHERE || kd == CB_ANALYTIC_ELLIPSOID ||
+                          kd == CB_ANALYTIC_TORUS))
+                for (int e = 0; e < 2; e++)
+                    b[2 * d + e] = cb_nurbs_arc_angle(q->range[2 * d], q->range[2 * d + 1], 1,
+                                                      b[2 * d + e]);
+    }
     for (slong k = 0; k < t->n_marks; k++) {
         cb_ssi_mark *m = t->mark + k;
         if (m->q_side == side) {
@@ -1148,10 +1164,91 @@ static double surf_dist(const asurf *s, const double uv[2], const double X[3])
 }
 
 /* Distances of an output point to both surfaces at its parameters, recorded in r. */
+static void side_dist(cb_ssi_result_t r, const asurf *s, int side, const cb_ssi_point *p)
+{
+    double *m = side ? &r->max_dist_b : &r->max_dist_a;
+    *m = fmax(*m, surf_dist(s, side ? p->uv_b : p->uv_a, p->xyz));
+}
+
 static void result_dist(cb_ssi_result_t r, const actx *g, const cb_ssi_point *p)
 {
-    r->max_dist_a = fmax(r->max_dist_a, surf_dist(g->s, p->uv_a, p->xyz));
-    r->max_dist_b = fmax(r->max_dist_b, surf_dist(g->s + 1, p->uv_b, p->xyz));
+    side_dist(r, g->s, 0, p);
+    side_dist(r, g->s + 1, 1, p);
+}
+
+/* Runs A and B as cb_ssi_surfaces with each side k whose conv[k] is set written as its exact
+ * rational B-spline over its range (cb_analytic_to_nurbs_exact; an[k] its analytic
+ * description), and maps the result back (general_fix). an[k] is NULL for a NURBS side; the
+ * largest distances to an analytic side are measured on it again. o: the options of the run
+ * (recognition off: the converted nets would be recognised and come back here). A side that
+ * cannot be converted is a refusal of the pair, recorded in r. */
+static cb_status run_converted(cb_ssi_result_t r, const cb_ssi_surface *A,
+                               const cb_ssi_surface *B, const asurf *const an[2],
+                               const int conv[2], int fa, int fb, const cb_ssi_opts *o,
+                               cb_error *err)
+{
+    cb_nurbs_surface_t net[2];
+    cb_ssi_surface S[2] = {*A, *B};
+    cb_status st = CB_OK;
+    for (int k = 0; k < 2; k++) {
+        cb_nurbs_surface_init(net[k]);
+        const asurf *q = an[k];
+        if (!conv[k])
+            continue;
+        if (st == CB_OK)
+            st = cb_analytic_to_nurbs_exact(net[k], q->a, q->range[0], q->range[1], q->range[2],
+                                            q->range[3], err);
+        if (st != CB_OK && st != CB_ERR_NOMEM) {
+            char msg[200];
+            snprintf(msg, sizeof msg, "%s as a rational B-spline: %.120s", k ? "B" : "A",
+                     err ? err->msg : "");
+            if (err)
+                cb_error_clear(err);
+            r->pairs_total++;
+            st = _cb_ssi_add_failure(r, fa, fb, -1, -1, CB_ERR_UNSUPPORTED, msg);
+            cb_nurbs_surface_clear(net[0]);
+            cb_nurbs_surface_clear(net[1]);
+            if (st != CB_OK)
+                return cb_error_set(err, st, "ssi: out of memory recording an uncertified "
+                                    "face pair");
+            return CB_OK;
+        }
+        cb_ssi_surface_set_nurbs(S + k, net[k]);
+    }
+    if (st == CB_OK) {
+        cb_ssi_result_t t;
+        cb_ssi_result_init(t);
+        st = cb_ssi_surfaces(t, S, S + 1, fa, fb, o, err);
+        if (st == CB_OK) {
+            for (int k = 0; k < 2; k++)
+                if (conv[k])
+                    general_fix(t, an[k], k);
+            for (slong k = 0; k < t->n_failed; k++) {
+                char msg[200];
+                snprintf(msg, sizeof msg, "%s as rational B-spline: %.150s",
+                         conv[0] && conv[1] ? "A and B" : (conv[0] ? "A" : "B"),
+                         t->failed[k].msg);
+                memcpy(t->failed[k].msg, msg, sizeof msg);
+            }
+            for (int k = 0; k < 2; k++) {
+                if (!an[k])
+                    continue;
+                *(k ? &t->max_dist_b : &t->max_dist_a) = 0;
+                for (slong c = 0; c < t->n_curves; c++)
+                    for (slong i = 0; i < t->curve[c].n; i++)
+                        side_dist(t, an[k], k, t->curve[c].pt + i);
+                for (slong i = 0; i < t->n_points; i++)
+                    side_dist(t, an[k], k, &t->point[i].p);
+            }
+            if (_cb_ssi_result_move(r, t) != CB_OK)
+                st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory collecting the "
+                                  "converted pair's result");
+        }
+        cb_ssi_result_clear(t);
+    }
+    cb_nurbs_surface_clear(net[0]);
+    cb_nurbs_surface_clear(net[1]);
+    return st;
 }
 
 /* The general route. The side whose parameterisation, substituted into the other's equation,
@@ -1170,70 +1267,39 @@ static cb_status general_route(cb_ssi_result_t r, const actx *g, int fa, int fb,
     int conv[2] = {da < db, da >= db};
     if (FLINT_MIN(da, db) >= 8)
         conv[0] = conv[1] = 1;
-    cb_nurbs_surface_t net[2];
+    /* The sides with the ranges asurf_set bounded. */
     cb_ssi_surface S[2];
-    cb_status st = CB_OK;
-    for (int k = 0; k < 2; k++) {
-        cb_nurbs_surface_init(net[k]);
-        const asurf *q = g->s + k;
-        if (!conv[k]) {
-            cb_ssi_surface_set_analytic(S + k, q->a, q->range);
-            continue;
-        }
-        if (st == CB_OK)
-            st = cb_analytic_to_nurbs_exact(net[k], q->a, q->range[0], q->range[1], q->range[2],
-                                      q->range[3], err);
-        if (st != CB_OK && st != CB_ERR_NOMEM) {
-            char msg[200];
-            snprintf(msg, sizeof msg, "general route: %s as a rational B-spline: %.120s",
-                     k ? "B" : "A", err ? err->msg : "");
-            if (err)
-                cb_error_clear(err);
-            r->pairs_total++;
-            st = _cb_ssi_add_failure(r, fa, fb, -1, -1, CB_ERR_UNSUPPORTED, msg);
-            cb_nurbs_surface_clear(net[0]);
-            cb_nurbs_surface_clear(net[1]);
-            if (st != CB_OK)
-                return cb_error_set(err, st, "ssi: out of memory recording an uncertified "
-                                    "face pair");
-            return CB_OK;
-        }
-        cb_ssi_surface_set_nurbs(S + k, net[k]);
+    cb_ssi_surface_set_analytic(S, a, g->s[0].range);
+    cb_ssi_surface_set_analytic(S + 1, b, g->s[1].range);
+    cb_ssi_opts o = *opts;
+    o.tol = g->tol;
+    o.chord = g->chord;
+    o.recognise = 0; /* the converted nets are recognised: no way back to here */
+    const asurf *an[2] = {g->s, g->s + 1};
+    return run_converted(r, S, S + 1, an, conv, fa, fb, &o, err);
+}
+
+cb_status _cb_ssi_analytic_as_nurbs(cb_ssi_result_t r, const cb_ssi_surface *A,
+                                    const cb_ssi_surface *B, int face_a, int face_b,
+                                    const cb_ssi_opts *opts, cb_error *err)
+{
+    int k = A->kind == CB_SSI_ANALYTIC ? 0 : 1;
+    const cb_ssi_surface *S = k ? B : A;
+    asurf q;
+    memset(&q, 0, sizeof q);
+    if (!asurf_set(&q, S)) {
+        /* An unbounded direction limited to the B-spline's box, as for analytic pairs. */
+        cb_aabb box;
+        cb_nurbs_surface_aabb(&box, (k ? A : B)->nurbs);
+        asurf_bound(&q, &box, fmax(opts->tol, 0));
     }
-    if (st == CB_OK) {
-        cb_ssi_opts o = *opts;
-        o.tol = g->tol;
-        o.chord = g->chord;
-        o.recognise = 0; /* the converted nets are recognised: no way back to here */
-        cb_ssi_result_t t;
-        cb_ssi_result_init(t);
-        st = cb_ssi_surfaces(t, S, S + 1, fa, fb, &o, err);
-        if (st == CB_OK) {
-            for (int k = 0; k < 2; k++)
-                if (conv[k])
-                    general_fix(t, g->s + k, k);
-            for (slong k = 0; k < t->n_failed; k++) {
-                char msg[200];
-                snprintf(msg, sizeof msg, "general route (%s as rational B-spline): %.140s",
-                         conv[0] && conv[1] ? "A and B" : (conv[0] ? "A" : "B"),
-                         t->failed[k].msg);
-                memcpy(t->failed[k].msg, msg, sizeof msg);
-            }
-            t->max_dist_a = t->max_dist_b = 0;
-            for (slong c = 0; c < t->n_curves; c++)
-                for (slong i = 0; i < t->curve[c].n; i++)
-                    result_dist(t, g, t->curve[c].pt + i);
-            for (slong k = 0; k < t->n_points; k++)
-                result_dist(t, g, &t->point[k].p);
-            if (_cb_ssi_result_move(r, t) != CB_OK)
-                st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory collecting the "
-                                  "general route's result");
-        }
-        cb_ssi_result_clear(t);
-    }
-    cb_nurbs_surface_clear(net[0]);
-    cb_nurbs_surface_clear(net[1]);
-    return st;
+    cb_ssi_surface Sk;
+    cb_ssi_surface_set_analytic(&Sk, &S->analytic, q.range);
+    const asurf *an[2] = {k ? NULL : &q, k ? &q : NULL};
+    int conv[2] = {!k, k};
+    cb_ssi_opts o = *opts;
+    o.recognise = 0;
+    return run_converted(r, k ? A : &Sk, k ? &Sk : B, an, conv, face_a, face_b, &o, err);
 }
 
 /* ---------------------------------------------------------------- driver ------------------- */

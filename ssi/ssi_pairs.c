@@ -963,6 +963,15 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
     }
     const cb_ssi_surface *Ps = swapped ? B : A, *Qs = swapped ? A : B;
     int fa = face_a, fb = face_b;
+    if (Ps->kind == CB_SSI_ANALYTIC) {
+        /* phi of degree N (m_Q, n_Q) with N the implicit degree, the same bound on every
+         * patch of Q: above the limit the subdivision route takes the pair, which needs both
+         * sides as patches. */
+        cb_analytic_kind k = Ps->analytic.kind;
+        slong N = k == CB_ANALYTIC_PLANE ? 1 : (k == CB_ANALYTIC_TORUS ? 4 : 2);
+        if (N * FLINT_MAX(Qs->nurbs->deg_u, Qs->nurbs->deg_v) > opts->max_phi_degree)
+            return _cb_ssi_analytic_as_nurbs(r, A, B, face_a, face_b, opts, err);
+    }
 
     cb_status st;
     cb_nurbs_surface_struct *qpat = NULL, *ppat = NULL;
@@ -1077,14 +1086,11 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
             } else if (rational) {
                 job[nj].spline = 1;
                 r->pairs_subdivided++;
-            } else if (N * dq > opts->max_phi_degree && ppat) {
+            } else if (N * dq > opts->max_phi_degree) {
+                /* Only patch pairs get here (an analytic P of such a degree was converted
+                 * above). */
                 job[nj].spline = 1;
                 r->pairs_subdivided++;
-            } else if (N * dq > opts->max_phi_degree) {
-                job[nj].st = CB_ERR_UNSUPPORTED;
-                snprintf(job[nj].msg, sizeof job[nj].msg,
-                         "phi would have degree up to %ld, above the topology stage's limit %ld",
-                         (long)(N * dq), (long)opts->max_phi_degree);
             }
             _cb_ssi_piece_set_init(&job[nj].pieces);
             _cb_ssi_tiny_set_init(&job[nj].tiny);

@@ -2,7 +2,8 @@
  * interval enclosures (polynomial and rational patches), a paraboloid against a tilted plane
  * (closed form circle), two crossing spline cylinders, a loop of radius 1e-3, a touching pair
  * (must be reported, not dropped), a patch against itself (coincident), a rational bicubic
- * against a plane, thread-count independence. */
+ * against a plane, an analytic cylinder against a B-spline of degree 7 (converted), thread-count
+ * independence. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -1097,6 +1098,72 @@ static void test_tangent_regions(void)
         }
 }
 
+/* An analytic cylinder against a B-spline whose phi would have degree 2 x 7 = 14, above
+ * max_phi_degree: the cylinder is written as its rational B-spline and the subdivision route
+ * takes the pair (it was refused outright). The B-spline is the graph z = g(x) over [0,1]^2
+ * with g a random polynomial of degree 7 (a (7, 1) Bezier patch with x = u, y = v), so the
+ * curve is the cylinder's circle lifted onto the graph: every point within tol of both, one
+ * closed certified curve round the whole circle, parameters on the cylinder its own. */
+static void test_analytic_high_degree(void)
+{
+    check_rng rng = {29};
+    double ku[16], kv[4] = {0, 0, 1, 1}, pts[3 * 16];
+    for (int k = 0; k < 16; k++)
+        ku[k] = k < 8 ? 0 : 1;
+    for (int i = 0; i < 8; i++) {
+        double z = check_rng_uniform(&rng, -0.2, 0.2);
+        for (int j = 0; j < 2; j++) {
+            pts[3 * (2 * i + j)] = i / 7.0;
+            pts[3 * (2 * i + j) + 1] = j;
+            pts[3 * (2 * i + j) + 2] = z;
+        }
+    }
+    cb_error err;
+    cb_nurbs_surface_t g;
+    cb_nurbs_surface_init(g);
+    CHECK(cb_nurbs_surface_make(g, 7, 1, ku, 16, kv, 4, pts, NULL, 8, 2, &err) == CB_OK,
+          "graph: %s", err.msg);
+    const double c[3] = {0.47, 0.52, 0}, axis[3] = {0, 0, 1}, R = 0.31;
+    cb_frame f;
+    cb_analytic_surface cyl;
+    CHECK(cb_frame_make(&f, c, axis, NULL, &err) == CB_OK &&
+              cb_analytic_cylinder(&cyl, &f, R, &err) == CB_OK,
+          "cylinder: %s", err.msg);
+    const double range[4] = {0, 2 * CB_SSI_PI, -1, 1};
+    cb_ssi_surface A, B;
+    cb_ssi_surface_set_analytic(&A, &cyl, range);
+    cb_ssi_surface_set_nurbs(&B, g);
+    cb_ssi_opts o;
+    cb_ssi_opts_default(&o);
+    o.tol = 1e-7;
+    o.chord = 1e-4;
+    o.threads = 1;
+    cb_ssi_result_t r;
+    cb_ssi_result_init(r);
+    cb_status st = cb_ssi_surfaces(r, &A, &B, -1, -1, &o, &err);
+    double dev = 0, udev = 0;
+    int closed = r->n_curves == 1 && r->curve[0].closed;
+    for (slong k = 0; k < r->n_curves; k++)
+        for (slong i = 0; i < r->curve[k].n; i++) {
+            const cb_ssi_point *p = r->curve[k].pt + i;
+            double gz[3], cz[3];
+            cb_nurbs_surface_eval(gz, g, p->xyz[0], p->xyz[1]);
+            cb_analytic_eval(cz, &cyl, p->uv_a[0], p->uv_a[1]);
+            dev = fmax(dev, fmax(fabs(hypot(p->xyz[0] - c[0], p->xyz[1] - c[1]) - R),
+                                 fabs(p->xyz[2] - gz[2])));
+            udev = fmax(udev, hypot(hypot(cz[0] - p->xyz[0], cz[1] - p->xyz[1]),
+                                    cz[2] - p->xyz[2]));
+        }
+    CHECK(st == CB_OK && r->n_failed == 0 && closed && r->curve[0].certified &&
+              r->pairs_subdivided > 0 && dev <= o.tol && udev <= o.tol,
+          "cylinder x degree 7 graph: status %d, %ld refused (%s), %ld curves (closed %d), %ld "
+          "pairs subdivided, deviation %.3g, on the cylinder at its parameters %.3g",
+          (int)st, (long)r->n_failed, r->n_failed ? r->failed[0].msg : "-", (long)r->n_curves,
+          closed, (long)r->pairs_subdivided, dev, udev);
+    cb_ssi_result_clear(r);
+    cb_nurbs_surface_clear(g);
+}
+
 int main(int argc, char **argv)
 {
     if (argc > 1 && !strcmp(argv[1], "fallback")) {
@@ -1104,6 +1171,7 @@ int main(int argc, char **argv)
         return check_report("test_ssi_spline");
     }
     test_enclosure();
+    test_analytic_high_degree();
     test_paraboloid_plane();
     test_cylinders();
     test_small_loop();
