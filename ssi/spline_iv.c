@@ -105,17 +105,19 @@ void _cb_ssi_bez_eval(double X[3], double Xu[3], double Xv[3], const _cb_ssi_bez
     }
 }
 
-/* One de Casteljau step a + t (b - a) for every t in t, a in a, b in b, enclosed twice: in
- * the difference form, whose width grows by the factor 1 + 2 t per step (a and b each enter
- * twice) but which is tight in t (a wide t multiplies only b - a), and in the convex form
- * (1 - t) a + t b, which carries the widths of a and b over unchanged (for a point t: a degree
- * 10 patch evaluated at a point stays near round-off instead of 1e-9 wide, which is what lets
- * Krawczyk prove a root at all) but multiplies |a| + |b| by t's width. Both hold the set; so
- * does their intersection. */
-static _cb_iv lerp_iv(_cb_iv a, _cb_iv b, _cb_iv t, _cb_iv omt)
+/* One de Casteljau step a + t (b - a) for every t in t, a in a, b in b. The difference form
+ * a + t (b - a) widens by the factor 1 + 2 t per step (a and b each enter twice) but is tight
+ * in t (a wide t multiplies only b - a); the convex form (1 - t) a + t b carries the widths of
+ * a and b over unchanged but multiplies |a| + |b| by t's width. For a point t the convex form
+ * is the tighter one (a degree 10 patch evaluated at a point stays near round-off instead of
+ * 1e-9 wide, which is what lets Krawczyk prove a root at all); for a wide t both are taken and
+ * intersected, since both hold the set. */
+static _cb_iv lerp_iv(_cb_iv a, _cb_iv b, _cb_iv t, _cb_iv omt, int point)
 {
-    _cb_iv d = _cb_iv_add(a, _cb_iv_mul(t, _cb_iv_sub(b, a)));
     _cb_iv c = _cb_iv_add(_cb_iv_mul(omt, a), _cb_iv_mul(t, b));
+    if (point)
+        return c;
+    _cb_iv d = _cb_iv_add(a, _cb_iv_mul(t, _cb_iv_sub(b, a)));
     _cb_iv r = {fmax(d.lo, c.lo), fmin(d.hi, c.hi)};
     return r;
 }
@@ -123,12 +125,13 @@ static _cb_iv lerp_iv(_cb_iv a, _cb_iv b, _cb_iv t, _cb_iv omt)
 static void dc_iv(_cb_iv *val, _cb_iv *der, _cb_iv *c, int d, _cb_iv t, int dim)
 {
     const _cb_iv omt = _cb_iv_sub(_cb_iv_pt(1), t);
+    const int point = t.lo == t.hi;
     for (int r = 1; r < d; r++)
         for (int i = 0; i + r <= d; i++)
             for (int q = 0; q < dim; q++)
-                c[dim * i + q] = lerp_iv(c[dim * i + q], c[dim * i + dim + q], t, omt);
+                c[dim * i + q] = lerp_iv(c[dim * i + q], c[dim * i + dim + q], t, omt, point);
     for (int q = 0; q < dim; q++) {
-        val[q] = lerp_iv(c[q], c[dim + q], t, omt);
+        val[q] = lerp_iv(c[q], c[dim + q], t, omt, point);
         if (der)
             der[q] = _cb_iv_mul(_cb_iv_pt((double)d), _cb_iv_sub(c[dim + q], c[q]));
     }
