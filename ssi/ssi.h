@@ -23,9 +23,9 @@
  *      threads.
  * Every result has one of three outcomes (cb_ssi_outcome; ssi/ssi_tol.h names every rule):
  * certified, resolved within tolerance (a region listed in r->region), or refused (listed in
- * r->failed: a patch pair the topology stage cannot certify (CB_ERR_UNSUPPORTED,
- * CB_ERR_NUMERIC, or phi of a degree above opts.max_phi_degree), or an ambiguous join wider
- * than tol), never dropped silently. The result container's operations are in ssi_result.c.
+ * r->failed: a patch pair the topology stage cannot certify (CB_ERR_UNSUPPORTED or
+ * CB_ERR_NUMERIC) and, for two B-spline patches, the subdivision route then cannot either, or
+ * an ambiguous join wider than tol), never dropped silently. The result container's operations are in ssi_result.c.
  *
  * Spline/spline patch pairs whose phi would exceed opts.max_phi_degree (bicubic x bicubic: 54)
  * take the subdivision route instead (ssi/spline.h, spline_*.c; primer 7): sub-patch pairs are
@@ -112,8 +112,9 @@ typedef struct {
     int threads;  /* patch pairs run on at most this many threads (0: all, 1: serial) */
     slong max_phi_degree; /* pairs whose phi has a degree in s or t above this (its true
                              bidegree, computed exactly) do not run the topology stage: a
-                             B-spline pair takes the subdivision route, others are reported
-                             not certified (CB_ERR_UNSUPPORTED); default 12, the bidegree a
+                             B-spline pair takes the subdivision route, an analytic/B-spline
+                             pair too, its analytic side written as its exact rational
+                             B-spline (_cb_ssi_analytic_as_nurbs); default 12, the bidegree a
                              torus gives with a bicubic patch; the paper's Example 2 needs 27
                              (about 6 s) */
     cb_ctopo_opts topo;   /* passed to cb_ctopo_compute; defaults of cb_ctopo_opts_default */

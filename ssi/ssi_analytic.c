@@ -1163,13 +1163,15 @@ static double surf_dist(const asurf *s, const double uv[2], const double X[3])
     return norm(d);
 }
 
-/* Distances of an output point to both surfaces at its parameters, recorded in r. */
+/* Distance of an output point to side's surface s at its parameters on it, recorded in r
+ * (the largest so far). */
 static void side_dist(cb_ssi_result_t r, const asurf *s, int side, const cb_ssi_point *p)
 {
     double *m = side ? &r->max_dist_b : &r->max_dist_a;
     *m = fmax(*m, surf_dist(s, side ? p->uv_b : p->uv_a, p->xyz));
 }
 
+/* The same for both surfaces. */
 static void result_dist(cb_ssi_result_t r, const actx *g, const cb_ssi_point *p)
 {
     side_dist(r, g->s, 0, p);
@@ -1181,11 +1183,12 @@ static void result_dist(cb_ssi_result_t r, const actx *g, const cb_ssi_point *p)
  * description), and maps the result back (general_fix). an[k] is NULL for a NURBS side; the
  * largest distances to an analytic side are measured on it again. o: the options of the run
  * (recognition off: the converted nets would be recognised and come back here). A side that
- * cannot be converted is a refusal of the pair, recorded in r. */
+ * cannot be converted is a refusal of the pair, recorded in r. route names the caller in the
+ * messages of refusals. */
 static cb_status run_converted(cb_ssi_result_t r, const cb_ssi_surface *A,
                                const cb_ssi_surface *B, const asurf *const an[2],
                                const int conv[2], int fa, int fb, const cb_ssi_opts *o,
-                               cb_error *err)
+                               const char *route, cb_error *err)
 {
     cb_nurbs_surface_t net[2];
     cb_ssi_surface S[2] = {*A, *B};
@@ -1200,8 +1203,8 @@ static cb_status run_converted(cb_ssi_result_t r, const cb_ssi_surface *A,
                                             q->range[3], err);
         if (st != CB_OK && st != CB_ERR_NOMEM) {
             char msg[200];
-            snprintf(msg, sizeof msg, "%s as a rational B-spline: %.120s", k ? "B" : "A",
-                     err ? err->msg : "");
+            snprintf(msg, sizeof msg, "%s: %s as a rational B-spline: %.120s", route,
+                     k ? "B" : "A", err ? err->msg : "");
             if (err)
                 cb_error_clear(err);
             r->pairs_total++;
@@ -1225,7 +1228,7 @@ static cb_status run_converted(cb_ssi_result_t r, const cb_ssi_surface *A,
                     general_fix(t, an[k], k);
             for (slong k = 0; k < t->n_failed; k++) {
                 char msg[200];
-                snprintf(msg, sizeof msg, "%s as rational B-spline: %.150s",
+                snprintf(msg, sizeof msg, "%s (%s as rational B-spline): %.140s", route,
                          conv[0] && conv[1] ? "A and B" : (conv[0] ? "A" : "B"),
                          t->failed[k].msg);
                 memcpy(t->failed[k].msg, msg, sizeof msg);
@@ -1276,7 +1279,7 @@ static cb_status general_route(cb_ssi_result_t r, const actx *g, int fa, int fb,
     o.chord = g->chord;
     o.recognise = 0; /* the converted nets are recognised: no way back to here */
     const asurf *an[2] = {g->s, g->s + 1};
-    return run_converted(r, S, S + 1, an, conv, fa, fb, &o, err);
+    return run_converted(r, S, S + 1, an, conv, fa, fb, &o, "general route", err);
 }
 
 cb_status _cb_ssi_analytic_as_nurbs(cb_ssi_result_t r, const cb_ssi_surface *A,
@@ -1299,7 +1302,8 @@ cb_status _cb_ssi_analytic_as_nurbs(cb_ssi_result_t r, const cb_ssi_surface *A,
     int conv[2] = {!k, k};
     cb_ssi_opts o = *opts;
     o.recognise = 0;
-    return run_converted(r, k ? A : &Sk, k ? &Sk : B, an, conv, face_a, face_b, &o, err);
+    return run_converted(r, k ? A : &Sk, k ? &Sk : B, an, conv, face_a, face_b, &o,
+                         "phi above the degree limit", err);
 }
 
 /* ---------------------------------------------------------------- driver ------------------- */
