@@ -108,24 +108,28 @@ void _cb_ssi_bez_eval(double X[3], double Xu[3], double Xv[3], const _cb_ssi_bez
 /* One de Casteljau step a + t (b - a) for every t in t, a in a, b in b. The difference form
  * a + t (b - a) widens by the factor 1 + 2 t per step (a and b each enter twice) but is tight
  * in t (a wide t multiplies only b - a); the convex form (1 - t) a + t b carries the widths of
- * a and b over unchanged but multiplies |a| + |b| by t's width. For a point t the convex form
- * is the tighter one (a degree 10 patch evaluated at a point stays near round-off instead of
- * 1e-9 wide, which is what lets Krawczyk prove a root at all); for a wide t both are taken and
- * intersected, since both hold the set. */
+ * a and b over unchanged but multiplies |a| + |b| by t's width and costs two interval products
+ * instead of one. point: t is a point and the degree high enough for the growth to matter
+ * (dc_iv); then the convex form is taken, else the difference form. */
 static _cb_iv lerp_iv(_cb_iv a, _cb_iv b, _cb_iv t, _cb_iv omt, int point)
 {
-    _cb_iv c = _cb_iv_add(_cb_iv_mul(omt, a), _cb_iv_mul(t, b));
     if (point)
-        return c;
-    _cb_iv d = _cb_iv_add(a, _cb_iv_mul(t, _cb_iv_sub(b, a)));
-    _cb_iv r = {fmax(d.lo, c.lo), fmin(d.hi, c.hi)};
-    return r;
+        return _cb_iv_add(_cb_iv_mul(omt, a), _cb_iv_mul(t, b));
+    return _cb_iv_add(a, _cb_iv_mul(t, _cb_iv_sub(b, a)));
 }
 
+/* Interval de Casteljau of the d + 1 points c (dim values each, overwritten) at t: val, and der
+ * the derivative. At a point t of degree d >= 6 the steps take the convex form: the difference
+ * form's growth, up to 3^d, makes a rational patch of degree 10 evaluated at a point 1e-9 wide,
+ * the Krawczyk operator's centre term as wide, and no boundary root provable at all. Below
+ * degree 6 the growth stays under 3^5 round-offs and the difference form is kept: the convex
+ * form there changed the search paths of sides holding a continuum of roots (curves along patch
+ * sides) and took three times as long on such a case (bench_ssi_corpus boundary/generic/0:
+ * 77 s against 24 s, about the same number of sub-pairs). */
 static void dc_iv(_cb_iv *val, _cb_iv *der, _cb_iv *c, int d, _cb_iv t, int dim)
 {
     const _cb_iv omt = _cb_iv_sub(_cb_iv_pt(1), t);
-    const int point = t.lo == t.hi;
+    const int point = t.lo == t.hi && d >= 6;
     for (int r = 1; r < d; r++)
         for (int i = 0; i + r <= d; i++)
             for (int q = 0; q < dim; q++)
