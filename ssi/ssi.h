@@ -25,7 +25,8 @@
  * certified, resolved within tolerance (a region listed in r->region), or refused (listed in
  * r->failed: a patch pair the topology stage cannot certify (CB_ERR_UNSUPPORTED or
  * CB_ERR_NUMERIC) and, for two B-spline patches, the subdivision route then cannot either, or
- * an ambiguous join wider than tol), never dropped silently. The result container's operations are in ssi_result.c.
+ * an ambiguous join wider than tol), never dropped silently. The result container's
+ * operations are in ssi_result.c.
  *
  * Spline/spline patch pairs whose phi would exceed opts.max_phi_degree (bicubic x bicubic: 54)
  * take the subdivision route instead (ssi/spline.h, spline_*.c; primer 7): sub-patch pairs are
@@ -716,10 +717,10 @@ cb_status _cb_ssi_analytic_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
 /* An analytic/NURBS pair (either way round) whose phi, the analytic implicit equation of
  * degree N (plane 1, quadrics 2, torus 4) substituted into the B-spline's patches, would have a
  * degree above opts->max_phi_degree: the analytic side over its range (an unbounded direction
- * limited to the B-spline's box) written as its exact rational B-spline (cb_analytic_to_nurbs_exact) and the
- * pair run as NURBS/NURBS, where the subdivision route takes the patch pairs of high degree;
- * the analytic side's parameters, region boxes and distances are its own again in the result
- * (ssi_analytic.c). */
+ * limited to the B-spline's box) written as its exact rational B-spline
+ * (cb_analytic_to_nurbs_exact) and the pair run as NURBS/NURBS, where the subdivision route
+ * takes the patch pairs of high degree; the analytic side's parameters, region boxes and
+ * distances are its own again in the result (ssi_analytic.c). */
 cb_status _cb_ssi_analytic_as_nurbs(cb_ssi_result_t r, const cb_ssi_surface *A,
                                     const cb_ssi_surface *B, int face_a, int face_b,
                                     const cb_ssi_opts *opts, cb_error *err);

@@ -253,7 +253,7 @@ static void test_enclosure(void)
     CHECK(bad == 0, "rational: %d enclosure or evaluation failures", bad);
     /* A rational patch of bidegree (6, 10), as CAD systems write sweeps: at a point the
      * enclosure holds the point evaluation and stays near round-off (interval de Casteljau in
-     * the difference form alone widens by 1 + 2t per step, about 1e-9 here, too wide for the
+     * the difference form alone widens by 1 + 2t per step, about 1e-7 here, too wide for the
      * root proofs of the boundary points). */
     double hk_u[14], hk_v[22], hp[3 * 77], hw[77];
     for (int k = 0; k < 14; k++)
