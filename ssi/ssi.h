@@ -714,6 +714,9 @@ typedef struct {
 cb_status _cb_ssi_analytic_pair(cb_ssi_result_t r, const cb_ssi_surface *A,
                                 const cb_ssi_surface *B, int face_a, int face_b,
                                 const cb_ssi_opts *opts, cb_error *err);
+/* Degree of the analytic surface's implicit equation: plane 1, torus 4, the quadrics 2
+ * (ssi_analytic.c). */
+int _cb_ssi_implicit_degree(const cb_analytic_surface *a);
 /* An analytic/NURBS pair (either way round) whose phi, the analytic implicit equation of
  * degree N (plane 1, quadrics 2, torus 4) substituted into the B-spline's patches, would have a
  * degree above opts->max_phi_degree: the analytic side over its range (an unbounded direction

@@ -17,6 +17,7 @@
 #include <flint/fmpz_vec.h>
 
 #include "brep/bbox.h"
+#include "brep/topo.h"
 #include "ssi/ssi.h"
 #include "ssi/ssi_tol.h"
 
@@ -1096,7 +1097,7 @@ static int same_equation(const cb_analytic_surface *a, const cb_analytic_surface
 
 /* ---------------------------------------------------------------- general route ------------ */
 
-static int implicit_degree(const cb_analytic_surface *a)
+int _cb_ssi_implicit_degree(const cb_analytic_surface *a)
 {
     return a->kind == CB_ANALYTIC_PLANE ? 1 : (a->kind == CB_ANALYTIC_TORUS ? 4 : 2);
 }
@@ -1127,22 +1128,25 @@ static void general_fix(cb_ssi_result_t t, const asurf *q, int side)
     }
     for (slong k = 0; k < t->n_coincident; k++)
         *(side ? &t->coincident[k].patch_b : &t->coincident[k].patch_a) = -1;
-    /* Region boxes: the B-spline parameters of an arc direction of the exact form (the
-     * parallels, and the meridians of spheres, ellipsoids and tori) map monotonically onto the
-     * angles (cb_nurbs_arc_angle); the linear directions are the analytic ones. */
+    /* Region boxes: each direction of the exact form maps monotonically onto the analytic
+     * parameter (cb_topo_surface_nurbs_param), so the corners map to the corners. */
+    cb_topo_surface ts;
+    cb_topo_surface_init(&ts);
+    ts.kind = CB_SURFACE_ANALYTIC;
+    ts.analytic = *q->a;
     for (slong k = 0; k < t->n_regions; k++) {
         cb_ssi_region *g = t->region + k;
         double *b = side ? g->box_b : g->box_a;
         *(side ? &g->patch_b : &g->patch_a) = -1;
-        cb_analytic_kind kd = q->a->kind;
-        for (int d = 0; d < 2; d++)
-            if (d == 0 ? kd != CB_ANALYTIC_PLANE
-                       : (kd == CB_ANALYTIC_SPHERE || kd == CB_ANALYTIC_ELLIPSOID ||
-                          kd == CB_ANALYTIC_TORUS))
-                for (int e = 0; e < 2; e++)
-                    b[2 * d + e] = cb_nurbs_arc_angle(q->range[2 * d], q->range[2 * d + 1], 1,
-                                                      b[2 * d + e]);
+        for (int e = 0; e < 2; e++) {
+            const double st[2] = {b[e], b[2 + e]};
+            double uv[2];
+            cb_topo_surface_nurbs_param(uv, &ts, q->range, 1, st);
+            b[e] = uv[0];
+            b[2 + e] = uv[1];
+        }
     }
+    cb_topo_surface_clear(&ts);
     for (slong k = 0; k < t->n_marks; k++) {
         cb_ssi_mark *m = t->mark + k;
         if (m->q_side == side) {
@@ -1266,7 +1270,8 @@ static cb_status general_route(cb_ssi_result_t r, const actx *g, int fa, int fb,
                                const cb_ssi_opts *opts, cb_error *err)
 {
     const cb_analytic_surface *a = g->s[0].a, *b = g->s[1].a;
-    int da = implicit_degree(b) * param_degree(a), db = implicit_degree(a) * param_degree(b);
+    int da = _cb_ssi_implicit_degree(b) * param_degree(a),
+        db = _cb_ssi_implicit_degree(a) * param_degree(b);
     int conv[2] = {da < db, da >= db};
     if (FLINT_MIN(da, db) >= 8)
         conv[0] = conv[1] = 1;
@@ -1296,14 +1301,13 @@ cb_status _cb_ssi_analytic_as_nurbs(cb_ssi_result_t r, const cb_ssi_surface *A,
         cb_nurbs_surface_aabb(&box, (k ? A : B)->nurbs);
         asurf_bound(&q, &box, fmax(opts->tol, 0));
     }
-    cb_ssi_surface Sk;
-    cb_ssi_surface_set_analytic(&Sk, &S->analytic, q.range);
+    /* The analytic side is replaced by its conversion over q's range; the other is as given. */
     const asurf *an[2] = {k ? NULL : &q, k ? &q : NULL};
     int conv[2] = {!k, k};
     cb_ssi_opts o = *opts;
     o.recognise = 0;
-    return run_converted(r, k ? A : &Sk, k ? &Sk : B, an, conv, face_a, face_b, &o,
-                         "phi above the degree limit", err);
+    return run_converted(r, A, B, an, conv, face_a, face_b, &o, "phi above the degree limit",
+                         err);
 }
 
 /* ---------------------------------------------------------------- driver ------------------- */

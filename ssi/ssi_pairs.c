@@ -967,8 +967,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
         /* phi of degree N (m_Q, n_Q) with N the implicit degree, the same bound on every
          * patch of Q: above the limit the subdivision route takes the pair, which needs both
          * sides as patches. */
-        cb_analytic_kind k = Ps->analytic.kind;
-        slong N = k == CB_ANALYTIC_PLANE ? 1 : (k == CB_ANALYTIC_TORUS ? 4 : 2);
+        slong N = _cb_ssi_implicit_degree(&Ps->analytic);
         if (N * FLINT_MAX(Qs->nurbs->deg_u, Qs->nurbs->deg_v) > opts->max_phi_degree)
             return _cb_ssi_analytic_as_nurbs(r, A, B, face_a, face_b, opts, err);
     }
@@ -1064,9 +1063,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
             /* Degree of phi before any algebra: N (m_Q, n_Q), N <= 2 m_P n_P for a patch
              * (the Dixon rank), the true degree for an analytic surface. */
             slong N = ppat ? 2 * ppat[i].deg_u * ppat[i].deg_v
-                           : (Ps->analytic.kind == CB_ANALYTIC_PLANE
-                                  ? 1
-                                  : (Ps->analytic.kind == CB_ANALYTIC_TORUS ? 4 : 2));
+                           : _cb_ssi_implicit_degree(&Ps->analytic);
             slong dq = FLINT_MAX(qpat[j].deg_u, qpat[j].deg_v);
             double h[3][4];
             int planar = ppat && near_planar_corners(h, ppat + i);
