@@ -47,6 +47,14 @@ static const designed_curve curves[] = {
     {"near miss (x-a)^2+(y-b)^2+1e-8", "100000000*((2*s-1)^2+(2*t-1)^2)+1", 0, 0, 0, 0, 0, 0, 0},
     {"circle crossing the box", "(2*s)^2+(2*t)^2-1", 1, 0, 0, 0, 0, 2, 0},
     {"parabola tangent to the side t = t0 from below", "t+(2*s-1)^2", 1, 0, 1, 0, 0, 0, 0},
+    /* its critical fibre s = 1/sqrt(3) has a root of multiplicity 5 on the side t = 1: the
+     * ball test of whether the gcd (1 - t)^4 of phi and phi_t has no root in the box (it has
+     * one) must give up, not bisect towards t = 1 for hours */
+    {"flat inflection on the side t = t1", "(3*s^2-1)-(1-t)^5", 1, 0, 0, 0, 0, 2, 0},
+    /* the same with the root of the gcd 1e-3 beyond the side: no root in the box, but too
+     * close to it for the ball test to prove that within its budget */
+    {"flat inflection 1e-3 beyond the side t = t1", "1000000000000000*(3*s^2-1)-(1001-1000*t)^5",
+     1, 0, 0, 0, 0, 2, 0},
 };
 
 static const double unit_box[4] = {0, 1, 0, 1};
