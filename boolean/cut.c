@@ -370,10 +370,10 @@ static int short_of_end(const cut_ctx *cx, const cut_pt *p, const void *arg)
 
 /* Where the step a -> b (wrapped parameters) crosses a window's end first, over both sides
  * and directions: the crossing point as the end of the piece before it and as the start of
- * the piece after it (the same point, its crossed parameter at the window's two ends).
- * Returns 0 when the step crosses none. */
+ * the piece after it (the same point, its crossed parameter at the window's two ends), and
+ * which parameter it crosses (2 side + direction). Returns 0 when the step crosses none. */
 static int find_cross(const cut_ctx *cx, const cut_pt *a, const cut_pt *b, cut_pt *before,
-                      cut_pt *after)
+                      cut_pt *after, int *which)
 {
     double tcross = 2;
     int cs = -1, cd = -1;
@@ -396,6 +396,7 @@ static int find_cross(const cut_ctx *cx, const cut_pt *a, const cut_pt *b, cut_p
         }
     if (cs < 0)
         return 0;
+    *which = 2 * cs + cd;
     double P = cx->P[cs][cd], lo = cx->lo[cs][cd];
     cut_pt bu = *b; /* both faces may cross a seam on the same step */
     unwrap_next(&bu, cx, a);
@@ -507,6 +508,73 @@ static int kink_split(const cut_ctx *cx, const cut_run *r, int i, cut_pt *before
     return 1;
 }
 
+/* The pieces of one run between its splits, before they are emitted: each with the splits
+ * it starts and ends at (ids in order along the run; the crossed parameter of a seam crossing,
+ * 2 side + direction, or -1 for a pole, a corner or an end of the run). */
+typedef struct {
+    cut_run run;
+    int start_cross, end_cross, start_id, end_id;
+    int dropped;
+} split_piece;
+
+typedef struct {
+    int n, cap;
+    split_piece *p;
+} split_pieces;
+
+static split_piece *pieces_add(split_pieces *ps, int start_cross, int start_id)
+{
+    if (ps->n == ps->cap) {
+        int cap = ps->cap ? 2 * ps->cap : 8;
+        split_piece *q = realloc(ps->p, (size_t)cap * sizeof *q);
+        if (!q)
+            return NULL;
+        ps->p = q;
+        ps->cap = cap;
+    }
+    split_piece *k = ps->p + ps->n++;
+    memset(k, 0, sizeof *k);
+    k->start_cross = start_cross;
+    k->start_id = start_id;
+    k->end_cross = k->end_id = -1;
+    return k;
+}
+
+/* A piece between crossings of two different seams (one of each face, or both of one face)
+ * shorter than weld is a sliver: its two ends weld into one node, and the piece would fold
+ * onto itself there (the seams of a cone and a sphere on one axis, crossed 0.4 tol apart by
+ * a circle, left a 1.7e-6 piece whose weld closed the other piece on itself on one face
+ * only). It is dropped and its neighbours meet across both seams: the piece before it ends
+ * on the second seam's arriving copy too, the piece after it starts on the first seam's
+ * leaving copy. Where the two crossings coincide (a cylinder through a sphere on one axis,
+ * both seams in one half-plane) the sliver has length 0, and the piece after it took the
+ * first seam's arriving copy (the window's wrap of its end): it leaves on the other now. */
+static void merge_slivers(split_pieces *ps, int closed, double weld)
+{
+    for (int k = 0; k < ps->n; k++) {
+        split_piece *m = ps->p + k;
+        if (m->start_cross < 0 || m->end_cross < 0 || m->start_cross == m->end_cross ||
+            m->run.n < 2 || length_over(&m->run, weld))
+            continue;
+        int kp = k > 0 ? k - 1 : closed ? ps->n - 1 : -1;
+        int kn = k + 1 < ps->n ? k + 1 : closed ? 0 : -1;
+        if (kp < 0 || kn < 0 || kp == k || kn == k)
+            continue;
+        split_piece *a = ps->p + kp, *b = ps->p + kn;
+        if (a->dropped || b->dropped || a->end_id != m->start_id || b->start_id != m->end_id ||
+            a->run.n < 1 || b->run.n < 1)
+            continue;
+        int s1 = m->start_cross / 2, d1 = m->start_cross % 2;
+        int s2 = m->end_cross / 2, d2 = m->end_cross % 2;
+        cut_pt *a_end = a->run.p + a->run.n - 1, *b_start = b->run.p;
+        a_end->uv[s2][d2] = m->run.p[m->run.n - 1].uv[s2][d2];
+        b_start->uv[s1][d1] = m->run.p[0].uv[s1][d1];
+        a->end_cross = b->start_cross = -1; /* one node now, crossed both ways */
+        a->end_id = b->start_id = m->start_id;
+        m->dropped = 1;
+    }
+}
+
 /* Wraps the periodic parameters of run r into the faces' windows and splits it where a lift
  * jumps (the curve crosses a window's end, the seam of a face spanning a whole period) and
  * where it passes over a pole (pole_split) or turns a corner (kink_split). A closed run with a
@@ -543,16 +611,19 @@ cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cu
                     *x -= P;
             }
     cut_pt before, after;
-    int first = -1, at_pole = 0;
+    int first = -1, at_pole = 0, which = -1;
     for (int i = 0; i + 1 < r->n && first < 0; i++)
         if ((at_pole = pole_split(cx, r, i, &before, &after) ||
                        kink_split(cx, r, i, &before, &after)) ||
-            find_cross(cx, r->p + i, r->p + i + 1, &before, &after))
+            find_cross(cx, r->p + i, r->p + i + 1, &before, &after, &which))
             first = i;
     if (first < 0)
         return emit(out, r, c, curve, closed, 1e-6 * cx->min_len, cx->f, err);
-    cut_run rot = {0, 0, NULL}, piece = {0, 0, NULL};
+    cut_run rot = {0, 0, NULL};
+    split_pieces ps = {0, 0, NULL};
     int fail = 0;
+    /* the split a piece starts at: a crossing's parameter (find_cross), or -1 */
+    int start_cross = -1, start_id = -1, n_split = 0;
     if (closed) {
         /* From the split round to it: after, p[first + 1 ..], p[1 .. first], before (the
          * last point repeats the first; at a pole or a corner, p[first] is before and
@@ -564,29 +635,43 @@ cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cu
             fail |= _cb_cut_run_push(&rot, r->p + i);
         fail |= _cb_cut_run_push(&rot, &before);
         r = &rot;
+        start_cross = at_pole ? -1 : which;
+        start_id = n_split++;
+    }
+    int rot_cross = start_cross, rot_id = start_id;
+    split_piece *cur = pieces_add(&ps, start_cross, start_id);
+    fail |= !cur;
+    for (int i = 0; i < r->n && !fail; i++) {
+        int split = 0, w = -1;
+        if (pole_split(cx, r, i, &before, &after) || kink_split(cx, r, i, &before, &after)) {
+            split = 1;
+        } else {
+            fail |= _cb_cut_run_push(&cur->run, r->p + i);
+            split = i + 1 < r->n &&
+                    find_cross(cx, r->p + i, r->p + i + 1, &before, &after, &w);
+        }
+        if (!split)
+            continue;
+        fail |= _cb_cut_run_push(&cur->run, &before);
+        cur->end_cross = w;
+        cur->end_id = n_split;
+        cur = fail ? NULL : pieces_add(&ps, w, n_split++);
+        fail |= !cur || _cb_cut_run_push(&cur->run, &after);
+    }
+    if (!fail) {
+        cur->end_cross = closed ? rot_cross : -1;
+        cur->end_id = closed ? rot_id : -1;
+        merge_slivers(&ps, closed, CB_BOOL_WELD * cx->min_len);
     }
     cb_status st = CB_OK;
-    for (int i = 0; i < r->n && !fail && !st; i++) {
-        if (pole_split(cx, r, i, &before, &after) || kink_split(cx, r, i, &before, &after)) {
-            fail |= _cb_cut_run_push(&piece, &before);
-            if (!fail && length_over(&piece, 0.1 * cx->min_len))
-                st = emit(out, &piece, c, curve, 0, 1e-6 * cx->min_len, cx->f, err);
-            piece.n = 0;
-            fail |= _cb_cut_run_push(&piece, &after);
-            continue;
-        }
-        fail |= _cb_cut_run_push(&piece, r->p + i);
-        if (i + 1 < r->n && find_cross(cx, r->p + i, r->p + i + 1, &before, &after)) {
-            fail |= _cb_cut_run_push(&piece, &before);
-            if (!fail && length_over(&piece, 0.1 * cx->min_len))
-                st = emit(out, &piece, c, curve, 0, 1e-6 * cx->min_len, cx->f, err);
-            piece.n = 0;
-            fail |= _cb_cut_run_push(&piece, &after);
-        }
+    for (int k = 0; k < ps.n && !fail && !st; k++) {
+        cut_run *q = &ps.p[k].run;
+        if (!ps.p[k].dropped && q->n >= 2 && length_over(q, 0.1 * cx->min_len))
+            st = emit(out, q, c, curve, 0, 1e-6 * cx->min_len, cx->f, err);
     }
-    if (!fail && !st && piece.n >= 2 && length_over(&piece, 0.1 * cx->min_len))
-        st = emit(out, &piece, c, curve, 0, 1e-6 * cx->min_len, cx->f, err);
-    free(piece.p);
+    for (int k = 0; k < ps.n; k++)
+        free(ps.p[k].run.p);
+    free(ps.p);
     free(rot.p);
     if (fail && !st)
         st = cb_error_set(err, CB_ERR_NOMEM, "cuts: out of memory");
