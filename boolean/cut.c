@@ -697,6 +697,20 @@ static int inside_both(const cut_ctx *cx, const cut_pt *p, double cls_tol)
             if (w - lo <= band || cx->hi[s][d] - w <= band)
                 uv[d] = lo + band;
         }
+        /* A point on a pole line (S_u or S_v vanishing: a sphere's pole, a cone's apex) lies
+         * on the line that closes a cap in (u, v), which is no edge, so the classification
+         * has neither a crossing parity nor an edge to call it ON: it is classified a
+         * millionth of the face's extent off the line, inwards, at the parameter the curve
+         * has there (a great circle of a sphere face bounded by a VERTEX_LOOP passes over
+         * the pole: it was cut there, 0.014 of its length lost, 3 edges unsewn). */
+        double dd[6][3];
+        cb_topo_inverter_eval_derivs(dd, &cx->f[s]->inv, uv[0], uv[1]);
+        for (int q = 0; q < 2; q++)
+            if (norm3(dd[1 + q]) <= 1e-9 * norm3(dd[2 - q])) {
+                const double *box = cx->f[s]->uv_box;
+                double lo = box[2 - 2 * q], hi = box[3 - 2 * q], *x = uv + 1 - q;
+                *x += (*x < 0.5 * (lo + hi) ? 1e-6 : -1e-6) * (hi - lo);
+            }
         if (cb_face_classify_uv(cx->f[s], uv[0], uv[1], cls_tol) == CB_FACE_OUT)
             return 0;
     }

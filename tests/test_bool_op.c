@@ -1084,6 +1084,23 @@ static void test_occt_faces(void)
         cb_topo_body_free(B);
     }
     {
+        /* The randomized corpus's sphere_edge_2_translated_analytic (bench/corpus): a box and
+         * a sphere centred on one of its edges, the sphere's axis and seam in the plane of the
+         * box's face y = -0.7226: that face's cut, half a great circle along the seam and the
+         * meridian opposite, passes over the pole, where the sphere face (a cap closed by its
+         * pole line, no edge) must not call the curve outside (it was cut there, 3 edges
+         * unsewn). A quarter inside; the box's sides and the radius as the files give them. */
+        double r = 0.356402868109, q = PI / 3 * r * r * r;
+        double vbox = 1.78583339544 * 2.024478396279 * 1.615810891731;
+        cb_topo_body *A = occt_file("sphere_edge_box.step"),
+                     *B = occt_file("sphere_edge_sphere.step");
+        const double want[3] = {q, vbox + 3 * q, vbox - q};
+        for (int o2 = 0; o2 < 3 && A && B; o2++)
+            check_op("sphere on a box edge", ops[o2], A, B, want[o2], 1e-6, NULL);
+        cb_topo_body_free(A);
+        cb_topo_body_free(B);
+    }
+    {
         /* r1 = 1 at the origin, r2 = 0.8 at (0.7, 0.1, 0.2) */
         double r1 = 1, r2 = 0.8, d = sqrt(0.54);
         double lens = PI * (r1 + r2 - d) * (r1 + r2 - d) *
