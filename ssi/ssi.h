@@ -634,8 +634,9 @@ void _cb_ssi_seams(double seam[2][2], const cb_nurbs_surface_struct *s);
  * With o->closed_form: ends within CB_SSI_CLOSED_FORM_JOIN tol are one node, a piece that never
  * leaves its node is dropped, and a piece with the same nodes as an earlier one whose middle is
  * within chord + that of it is dropped (the closed forms' rule, certified as such). Curves
- * start at their lowest piece, so the output depends only on the order of sets. CB_ERR_NOMEM
- * may leave part of the curves in r. */
+ * start at their lowest piece, so the output depends only on the order of sets. A curve's
+ * folds (a stretch traced out and back, CB_SSI_FOLD) are dropped. CB_ERR_NOMEM may leave part
+ * of the curves in r. */
 cb_status _cb_ssi_stitch(cb_ssi_result_t r, _cb_ssi_stitch_set *sets, slong nsets,
                          const _cb_ssi_stitch_opts *o);
 

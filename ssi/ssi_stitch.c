@@ -776,6 +776,56 @@ static int along_same_side(const _cb_ssi_stitch_set *sa, const _cb_ssi_piece *a,
     return 0;
 }
 
+/* Distance from p to the segment a b. */
+static double seg_dist(const double *p, const double *a, const double *b)
+{
+    double ab[3], ap[3], L2 = 0, t = 0;
+    for (int k = 0; k < 3; k++) {
+        ab[k] = b[k] - a[k];
+        ap[k] = p[k] - a[k];
+        L2 += ab[k] * ab[k];
+        t += ab[k] * ap[k];
+    }
+    t = L2 > 0 ? fmin(1, fmax(0, t / L2)) : 0;
+    double q[3] = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]};
+    return d3(p, q);
+}
+
+/* Drops the folds of curve c (ssi_tol.h, CB_SSI_FOLD): a run of points that leaves a point
+ * and comes back to it, every point of the run within CB_SSI_FOLD_REACH tol of it and within
+ * CB_SSI_FOLD tol of the chord from it to the run's farthest point, which is farther than
+ * CB_SSI_FOLD tol. */
+static void drop_folds(cb_ssi_curve *c, double tol)
+{
+    double eps = CB_SSI_FOLD * tol, reach = CB_SSI_FOLD_REACH * tol;
+    slong m = 0; /* points kept: c->pt[0 .. m) */
+    for (slong k = 0; k < c->n; k++) {
+        const double *x = c->pt[k].xyz;
+        slong back = -1;
+        for (slong i = m - 2; i >= 0 && d3(c->pt[i].xyz, x) <= reach; i--)
+            if (d3(c->pt[i].xyz, x) <= eps) {
+                back = i;
+                break;
+            }
+        if (back >= 0) {
+            slong far = back + 1;
+            for (slong i = back + 1; i < m; i++)
+                if (d3(c->pt[i].xyz, x) > d3(c->pt[far].xyz, x))
+                    far = i;
+            /* (points that only repeat pt[back], as a seam's two lifts do, are no fold) */
+            int thin = d3(c->pt[far].xyz, x) > eps;
+            for (slong i = back + 1; i < m && thin; i++)
+                thin = seg_dist(c->pt[i].xyz, c->pt[back].xyz, c->pt[far].xyz) <= eps;
+            if (thin) {
+                m = back + 1; /* the fold and its return to pt[back] */
+                continue;
+            }
+        }
+        c->pt[m++] = c->pt[k];
+    }
+    c->n = m;
+}
+
 cb_status _cb_ssi_stitch(cb_ssi_result_t r, _cb_ssi_stitch_set *sets, slong nsets,
                          const _cb_ssi_stitch_opts *o)
 {
@@ -968,6 +1018,7 @@ cb_status _cb_ssi_stitch(cb_ssi_result_t r, _cb_ssi_stitch_set *sets, slong nset
             nodes[it[i].node[1]].deg++;
         }
     /* Chains through nodes of degree 2. */
+    slong nc0 = r->n_curves;
     for (slong i = 0; i < ni && st == CB_OK; i++) {
         if (it[i].dropped || it[i].used || it[i].p->isolated)
             continue;
@@ -1050,6 +1101,8 @@ cb_status _cb_ssi_stitch(cb_ssi_result_t r, _cb_ssi_stitch_set *sets, slong nset
             rev = nrev;
         }
     }
+    for (slong k = nc0; k < r->n_curves && st == CB_OK; k++)
+        drop_folds(r->curve + k, o->tol);
     /* Isolated points not at a node or at an earlier point: closed forms by distance, the
      * patch routes by the joins above. */
     slong p0 = r->n_points;

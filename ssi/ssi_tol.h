@@ -79,6 +79,16 @@
  * Pieces joining the same nodes otherwise are kept (two branches forming a lens). */
 #define CB_SSI_ON_SIDE_EPS 1e-10
 
+/* A curve's polyline that leaves a point and comes back to it within CB_SSI_FOLD tol, every
+ * point between within CB_SSI_FOLD_REACH tol of it and within CB_SSI_FOLD tol of the chord
+ * from it to the farthest of them, that one farther than CB_SSI_FOLD tol, is a fold: the same stretch traced out and back (a patch
+ * side collapsed to a point and lying on the curve, as the pole of a B-spline ellipsoid cut by
+ * a plane through its axis, whose graph runs along that side between the curve's vertices).
+ * The fold is dropped (ssi_stitch.c, drop_folds): the curve's points were on it already, its
+ * topology and outcome are unchanged. */
+#define CB_SSI_FOLD 1.0
+#define CB_SSI_FOLD_REACH 1000.0
+
 /* ---------------------------------------------------------------- tangent regions --------- */
 
 /* The subdivision route's tangent regions (spline_pair.c, kept there beside the code that
