@@ -776,21 +776,6 @@ static int along_same_side(const _cb_ssi_stitch_set *sa, const _cb_ssi_piece *a,
     return 0;
 }
 
-/* Distance from p to the segment a b. */
-static double seg_dist(const double *p, const double *a, const double *b)
-{
-    double ab[3], ap[3], L2 = 0, t = 0;
-    for (int k = 0; k < 3; k++) {
-        ab[k] = b[k] - a[k];
-        ap[k] = p[k] - a[k];
-        L2 += ab[k] * ab[k];
-        t += ab[k] * ap[k];
-    }
-    t = L2 > 0 ? fmin(1, fmax(0, t / L2)) : 0;
-    double q[3] = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]};
-    return d3(p, q);
-}
-
 /* Drops the folds of curve c (ssi_tol.h, CB_SSI_FOLD): a run of points that leaves a point
  * and comes back to it, every point of the run within CB_SSI_FOLD_REACH tol of it and within
  * CB_SSI_FOLD tol of the chord from it to the run's farthest point, which is farther than
@@ -814,10 +799,17 @@ static void drop_folds(cb_ssi_curve *c, double tol)
                     far = i;
             /* (points that only repeat pt[back], as a seam's two lifts do, are no fold) */
             int thin = d3(c->pt[far].xyz, x) > eps;
+            double chord[6];
+            memcpy(chord, c->pt[back].xyz, sizeof c->pt[back].xyz);
+            memcpy(chord + 3, c->pt[far].xyz, sizeof c->pt[far].xyz);
             for (slong i = back + 1; i < m && thin; i++)
-                thin = seg_dist(c->pt[i].xyz, c->pt[back].xyz, c->pt[far].xyz) <= eps;
-            if (thin) {
-                m = back + 1; /* the fold and its return to pt[back] */
+                thin = polyline_dist(c->pt[i].xyz, chord, 2) <= eps;
+            /* The fold goes, and pt[k], at pt[back] within tol, takes its place: the curve's
+             * last point stays (a closed curve's repeats its first), its first stays. */
+            if (thin && !(back == 0 && k == c->n - 1)) {
+                m = back > 0 ? back : 1;
+                if (back > 0)
+                    c->pt[m++] = c->pt[k];
                 continue;
             }
         }
