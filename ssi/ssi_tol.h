@@ -81,11 +81,11 @@
 
 /* A curve's polyline that leaves a point and comes back to it within CB_SSI_FOLD tol, every
  * point between within CB_SSI_FOLD_REACH tol of it and within CB_SSI_FOLD tol of the chord
- * from it to the farthest of them, that one farther than CB_SSI_FOLD tol, is a fold: the same stretch traced out and back (a patch
- * side collapsed to a point and lying on the curve, as the pole of a B-spline ellipsoid cut by
- * a plane through its axis, whose graph runs along that side between the curve's vertices).
- * The fold is dropped (ssi_stitch.c, drop_folds): the curve's points were on it already, its
- * topology and outcome are unchanged. */
+ * from it to the farthest of them, that one farther than CB_SSI_FOLD tol, is a fold: a stretch
+ * traced out and back, an excursion of no area that no curve of two surfaces makes (seen where
+ * a plane holds a B-spline's patch sides collapsed to a pole, an ellipsoid halved through its
+ * poles, and on B-spline tori halved through their axis). The fold is dropped (ssi_stitch.c,
+ * drop_folds); the curve's topology and outcome are unchanged. */
 #define CB_SSI_FOLD 1.0
 #define CB_SSI_FOLD_REACH 1000.0
 

@@ -1177,8 +1177,9 @@ static void test_occt_faces(void)
          * face x = 0, which holds its poles. There the traced curve ran out and back along
          * the patch sides that collapse to the poles (folds up to 1.3e-3 long: ssi_tol.h
          * CB_SSI_FOLD); the union of the first pair was left with a loop open in (u, v) at
-         * the pole, the moved pair's A - B meshed with an edge of three triangles. V(A n B) = V(A) / 2; V(A) and V(B) by mass integration of the operands.
-         * (The first pair's A - B still meshes with edges of four triangles near a pole.) */
+         * the pole, the moved pair's A - B meshed with an edge of three triangles.
+         * V(A n B) = V(A) / 2; V(A) and V(B) by mass integration of the operands. (The first
+         * pair's A - B still meshes with edges of four triangles near a pole.) */
         const char *files[2][2] = {{"ellipsoid_half_axis_a.step", "ellipsoid_half_axis_b.step"},
                                    {"ellipsoid_half_moved_a.step", "ellipsoid_half_moved_b.step"}};
         for (int k = 0; k < 2; k++) {
