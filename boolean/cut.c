@@ -422,10 +422,9 @@ static int pole_split(const cut_ctx *cx, const cut_run *r, int i, cut_pt *before
     if (i <= 0 || i + 1 >= r->n)
         return 0;
     for (int s = 0; s < 2; s++) {
-        double dd[6][3];
-        cb_topo_inverter_eval_derivs(dd, &cx->f[s]->inv, r->p[i].uv[s][0], r->p[i].uv[s][1]);
+        int col = cb_topo_inverter_collapsed(&cx->f[s]->inv, r->p[i].uv[s][0], r->p[i].uv[s][1]);
         for (int d = 0; d < 2; d++) {
-            if (!(norm3(dd[1 + d]) <= 1e-9 * norm3(dd[2 - d])))
+            if (!(col & (1 << d)))
                 continue;
             double a = r->p[i - 1].uv[s][d], b = r->p[i + 1].uv[s][d];
             if (!(fabs(a - b) > 1e-9 * (1 + fabs(a) + fabs(b))))
@@ -703,10 +702,9 @@ static int inside_both(const cut_ctx *cx, const cut_pt *p, double cls_tol)
          * millionth of the face's extent off the line, inwards, at the parameter the curve
          * has there (a great circle of a sphere face bounded by a VERTEX_LOOP passes over
          * the pole: it was cut there, 0.014 of its length lost, 3 edges unsewn). */
-        double dd[6][3];
-        cb_topo_inverter_eval_derivs(dd, &cx->f[s]->inv, uv[0], uv[1]);
+        int col = cb_topo_inverter_collapsed(&cx->f[s]->inv, uv[0], uv[1]);
         for (int q = 0; q < 2; q++)
-            if (norm3(dd[1 + q]) <= 1e-9 * norm3(dd[2 - q])) {
+            if (col & (1 << q)) {
                 const double *box = cx->f[s]->uv_box;
                 double lo = box[2 - 2 * q], hi = box[3 - 2 * q], *x = uv + 1 - q;
                 *x += (*x < 0.5 * (lo + hi) ? 1e-6 : -1e-6) * (hi - lo);
@@ -1068,12 +1066,11 @@ static void snap_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_s
                 cb_topo_inverter_invert(uv, &f[s]->inv, x, guess);
                 /* keep the lift the cut had (a node on a seam has two), and at a pole the
                  * parameter the cut arrived with (settle_poles) */
-                double dd[6][3];
-                cb_topo_inverter_eval_derivs(dd, &f[s]->inv, uv[0], uv[1]);
+                int col = cb_topo_inverter_collapsed(&f[s]->inv, uv[0], uv[1]);
                 int pole = 0;
                 for (int q = 0; q < 2; q++) {
                     double P = f[s]->inv.period[q];
-                    if (norm3(dd[1 + q]) <= 1e-9 * norm3(dd[2 - q])) {
+                    if (col & (1 << q)) {
                         uv[q] = guess[q];
                         pole = 1;
                     } else {

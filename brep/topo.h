@@ -370,8 +370,11 @@ void cb_topo_inverter_clear(cb_topo_inverter *inv);
 void cb_topo_inverter_eval_derivs(double d[6][3], const cb_topo_inverter *inv, double u,
                                   double v);
 void cb_topo_inverter_eval(double p[3], const cb_topo_inverter *inv, double u, double v);
-/* Points along a curve on the surface where the surface collapses (a pole, an apex: |S_u| or
- * |S_v| at most 1e-9 of the other) have a free parameter along the collapsed line, whatever
+/* Bit d (1 << d) set where the surface collapses in direction d at (u, v): |S_d| at most
+ * 1e-9 of the other first derivative's length (a pole, an apex). */
+int cb_topo_inverter_collapsed(const cb_topo_inverter *inv, double u, double v);
+/* Points along a curve on the surface where the surface collapses (a pole, an apex:
+ * cb_topo_inverter_collapsed) have a free parameter along the collapsed line, whatever
  * an inversion gave. Each maximal run of such points takes, in that parameter, the value of
  * the point before the run (the one after it for a run at the start), so that the curve does
  * not run along the collapsed line. uv: n points (u, v), stride bytes apart. */

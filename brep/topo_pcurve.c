@@ -503,18 +503,26 @@ static void hermite(double uv[2], const node *a, const node *b, double t)
         uv[k] = h00 * a->uv[k] + h10 * h * a->d[k] + h01 * b->uv[k] + h11 * h * b->d[k];
 }
 
+int cb_topo_inverter_collapsed(const cb_topo_inverter *inv, double u, double v)
+{
+    double dd[6][3];
+    cb_topo_inverter_eval_derivs(dd, inv, u, v);
+    int bits = 0;
+    for (int d = 0; d < 2; d++)
+        if (cb_vec3_norm(dd[1 + d]) <= 1e-9 * cb_vec3_norm(dd[2 - d]))
+            bits |= 1 << d;
+    return bits;
+}
+
 void cb_topo_settle_poles(double *uv, size_t stride, int n, const cb_topo_inverter *inv)
 {
 #define UV(k) ((double *)((char *)uv + (size_t)(k) * stride))
     for (int d = 0; d < 2; d++)
         for (int k = 0; k < n;) {
             int e = k;
-            for (; e < n; e++) {
-                double dd[6][3];
-                cb_topo_inverter_eval_derivs(dd, inv, UV(e)[0], UV(e)[1]);
-                if (!(cb_vec3_norm(dd[1 + d]) <= 1e-9 * cb_vec3_norm(dd[2 - d])))
+            for (; e < n; e++)
+                if (!(cb_topo_inverter_collapsed(inv, UV(e)[0], UV(e)[1]) & (1 << d)))
                     break;
-            }
             /* points k .. e - 1 collapse in direction d */
             int from = k > 0 ? k - 1 : e < n ? e : -1;
             for (int j = k; j < e && from >= 0; j++)

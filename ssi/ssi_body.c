@@ -95,13 +95,9 @@ static void face_invert(double uv[2], const face_inv *fi, const double X[3])
         return;
     }
     cb_topo_inverter_invert(uv, fi->inv, X, NULL);
-    if (fi->pole_dir >= 0) {
-        double d[6][3];
-        cb_topo_inverter_eval_derivs(d, fi->inv, uv[0], uv[1]);
-        int k = fi->pole_dir;
-        if (cb_vec3_norm(d[1 + k]) <= 1e-9 * cb_vec3_norm(d[2 - k]))
-            uv[k] = NAN;
-    }
+    if (fi->pole_dir >= 0 && (cb_topo_inverter_collapsed(fi->inv, uv[0], uv[1]) &
+                              (1 << fi->pole_dir)))
+        uv[fi->pole_dir] = NAN;
 }
 
 /* (u, v) of coedge c's sample k of EDGE_SAMPLES along its edge (mid: half a step before it). */
