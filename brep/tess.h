@@ -56,6 +56,20 @@
  * at a point all mesh without crossing; of those touching a cylinder along a circle, a
  * few still cross where the circle's ends meet both faces.
  *
+ * Crossing chords. A curved edge sampled to the chordal tolerance can pass nearer to another
+ * edge or vertex of its face than its chords' sag; its chords then cross that edge's in
+ * (u, v), and no triangulation holds both. The face reports where, and cb_tess_body samples
+ * that face's edges more finely there (a zone as long as the longer chord, the chordal
+ * tolerance quartered each round, up to 4 rounds while the sampling changes) and meshes the
+ * faces again. Loops that really touch or cross, which no sampling separates, fail naming
+ * the face and the point.
+ *
+ * Shared sides. Two faces meeting at a thin wedge (surfaces crossing at a small angle) both
+ * see a bend of their common edges from its convex side, and the triangles of both may cut
+ * across it by the same segment between two shared samples: an edge of four triangles in the
+ * body's mesh. cb_tess_body finds such segments once the faces are meshed and meshes the
+ * faces using them again with those segments split (up to 3 rounds).
+ *
  * Refinement stops short of the tolerances in two places, where no insertion could help: a
  * flat triangle on a boundary side (its error is the boundary samples'), and, for the normal
  * test only, triangles narrower (smallest height) than twice the chordal tolerance (a C0
@@ -154,6 +168,11 @@ typedef struct {
     int n_tris;
     int *tri;
     int cap_points, cap_tris;
+    /* After a failure because two chords of the face's boundary cross in (u, v) (a curved
+     * edge sampled more coarsely than its distance to another edge or vertex of the face):
+     * the point on the surface where they cross and the longer chord's length; cross_r = 0
+     * after any other outcome. cb_tess_body samples the edges more finely there. */
+    double cross_at[3], cross_r;
 } cb_tess_face_mesh;
 
 void cb_tess_face_mesh_init(cb_tess_face_mesh *fm);

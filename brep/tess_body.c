@@ -18,6 +18,11 @@
  * really crosses itself; a contact along a curve, where the refined triangles of one face
  * keep meeting coarser ones of the other). */
 #define CONTACT_GROWTH 16
+/* Rounds of finer edge sampling where chords of a face's boundary cross in (u, v); each
+ * quarters the chordal tolerance there. */
+#define CROSS_ROUNDS 4
+/* Rounds of splitting segments that triangles of two faces share (shared_sides). */
+#define SPLIT_ROUNDS 3
 
 /* The edge samples and the faces' triangles of a body. */
 typedef struct {
@@ -39,8 +44,7 @@ typedef struct {
     const cb_topo_body *b;
     const cb_tess_edges *es;
     const cb_tess_opts *o;
-    const cb_tess_zone *zones;
-    int n_zones;
+    const cb_tess_hints *h;
     cb_context *ctx;
     cb_tess_face_mesh *fm;
     const int *faces; /* the faces to mesh; NULL: all, with progress */
@@ -58,8 +62,8 @@ static void face_body(void *arg, size_t begin, size_t end)
             j->st[i] = cb_error_set(&j->errs[i], CB_ERR_CANCELLED, "tessellation: cancelled");
             continue;
         }
-        j->st[i] = cb_tess_face_zoned(&j->fm[f], j->b, f, j->es, j->o, j->zones, j->n_zones,
-                                      j->ctx, &j->errs[i]);
+        j->st[i] = cb_tess_face_hinted(&j->fm[f], j->b, f, j->es, j->o, j->h, j->ctx,
+                                       &j->errs[i]);
         int done = __atomic_add_fetch(&j->done, 1, __ATOMIC_RELAXED);
         if (!j->faces)
             cb_context_progress(j->ctx, 1 + 19.0 * done / j->b->n_faces, 20, "tessellate");
@@ -71,10 +75,9 @@ static void face_body(void *arg, size_t begin, size_t end)
  * does not depend on scheduling; a cancellation wins over the errors it may have caused. */
 static cb_status mesh_faces(cb_tess_face_mesh *fm, const int *faces, int n, const cb_topo_body *b,
                             const cb_tess_edges *es, const cb_tess_opts *o,
-                            const cb_tess_zone *zones, int n_zones, cb_context *ctx,
-                            cb_error *err)
+                            const cb_tess_hints *h, cb_context *ctx, cb_error *err)
 {
-    body_job j = {b, es, o, zones, n_zones, ctx, fm, faces, NULL, NULL, 0};
+    body_job j = {b, es, o, h, ctx, fm, faces, NULL, NULL, 0};
     j.st = calloc((size_t)n + 1, sizeof(cb_status));
     j.errs = calloc((size_t)n + 1, sizeof(cb_error));
     cb_status st = CB_OK;
@@ -265,7 +268,7 @@ static int face_of(const int *first, int nf, int t)
  * shared samples renumbered. Into m2 (empty on failure). */
 static cb_status remesh(body_mesh *m2, const body_mesh *m, const cb_tess_edges *es2,
                         const unsigned char *fresh, const cb_topo_body *b, const cb_tess_opts *o,
-                        const cb_tess_zone *zones, int n_zones, cb_context *ctx, cb_error *err)
+                        const cb_tess_hints *h, cb_context *ctx, cb_error *err)
 {
     const cb_tess_edges *es = &m->es;
     int nf = b->n_faces, n_dirty = 0;
@@ -314,7 +317,7 @@ static cb_status remesh(body_mesh *m2, const body_mesh *m, const cb_tess_edges *
         }
     }
     if (!st)
-        st = mesh_faces(m2->fm, dirty, n_dirty, b, es2, o, zones, n_zones, ctx, err);
+        st = mesh_faces(m2->fm, dirty, n_dirty, b, es2, o, h, ctx, err);
     if (st) {
         for (int f = 0; m2->fm && f < nf; f++)
             cb_tess_face_mesh_clear(&m2->fm[f]);
@@ -336,13 +339,14 @@ static cb_status remesh(body_mesh *m2, const body_mesh *m, const cb_tess_edges *
  * wrong body, which no refinement removes; so is a mesh a round could not make, or one
  * that would grow past CONTACT_GROWTH. out is m assembled, and stays so. */
 static cb_status settle_contacts(cb_mesh_t out, body_mesh *m, const cb_topo_body *b,
-                                 const cb_tess_opts *o, cb_context *ctx, cb_error *err)
+                                 const cb_tess_opts *o, cb_tess_zone *zs, int n_zones,
+                                 int cap_zones, const int *splits, int n_splits,
+                                 cb_context *ctx, cb_error *err)
 {
-    int nf = b->n_faces, n_zones = 0, cap_zones = 0;
+    int nf = b->n_faces;
     int *first = malloc(((size_t)nf + 1) * sizeof(int));
     unsigned char *fresh = malloc((size_t)nf + 1), *ready = calloc((size_t)nf + 1, 1);
     cb_topo_inverter *inv = calloc((size_t)nf + 1, sizeof *inv);
-    cb_tess_zone *zs = NULL;
     cb_mesh_t next;
     cb_mesh_init(next);
     cb_status st = first && fresh && ready && inv
@@ -402,8 +406,9 @@ static cb_status settle_contacts(cb_mesh_t out, body_mesh *m, const cb_topo_body
         body_mesh m2 = {{0}, NULL};
         cb_tess_edges_init(&es2);
         cb_status s2 = cb_tess_edges_sample_zoned(&es2, b, o, zs, n_zones, ctx, &e3);
+        cb_tess_hints h = {zs, n_zones, splits, n_splits};
         if (!s2)
-            s2 = remesh(&m2, m, &es2, fresh, b, o, zs, n_zones, ctx, &e3);
+            s2 = remesh(&m2, m, &es2, fresh, b, o, &h, ctx, &e3);
         m2.es = es2;
         if (!s2)
             s2 = assemble(next, &m2.es, m2.fm, nf, &e3);
@@ -434,6 +439,75 @@ static cb_status settle_contacts(cb_mesh_t out, body_mesh *m, const cb_topo_body
     return st;
 }
 
+static int cmp_side(const void *x, const void *y)
+{
+    const int *a = x, *b = y;
+    for (int k = 0; k < 3; k++)
+        if (a[k] != b[k])
+            return a[k] < b[k] ? -1 : 1;
+    return 0;
+}
+
+/* Segments between two shared samples that are sides of triangles of more than one face
+ * while no face's boundary joins them: where two faces meet at a thin wedge (surfaces
+ * crossing at a small angle), both see a bend of their common edges from its convex side
+ * and may cut across it by the same segment, an edge of four triangles. Appends the ones
+ * not listed yet to splits (pairs; *n pairs, *cap) and sets dirty[f] for the faces using
+ * them. */
+static cb_status shared_sides(int **splits, int *n, int *cap, unsigned char *dirty,
+                              const cb_tess_face_mesh *fm, int nf, int n_points, cb_error *err)
+{
+    long count = 0;
+    for (int f = 0; f < nf; f++)
+        count += 3L * fm[f].n_tris;
+    int *side = malloc(((size_t)count + 1) * 3 * sizeof(int)), m = 0;
+    if (!side)
+        return cb_error_set(err, CB_ERR_NOMEM, "tessellation: out of memory");
+    for (int f = 0; f < nf; f++)
+        for (int t = 0; t < fm[f].n_tris; t++)
+            for (int k = 0; k < 3; k++) {
+                int x = fm[f].tri[3 * t + k], y = fm[f].tri[3 * t + (k + 1) % 3];
+                if (x >= n_points || y >= n_points)
+                    continue;
+                side[3 * m] = x < y ? x : y;
+                side[3 * m + 1] = x < y ? y : x;
+                side[3 * m + 2] = f;
+                m++;
+            }
+    qsort(side, (size_t)m, 3 * sizeof(int), cmp_side);
+    cb_status st = CB_OK;
+    for (int i = 0, j; i < m && !st; i = j) {
+        for (j = i + 1; j < m && side[3 * j] == side[3 * i] && side[3 * j + 1] == side[3 * i + 1];
+             j++)
+            ;
+        /* A segment of the body's edges has the triangles of its two faces beside it. */
+        if (j - i <= 2)
+            continue;
+        int listed = 0;
+        for (int k = 0; k < *n && !listed; k++)
+            listed = (*splits)[2 * k] == side[3 * i] && (*splits)[2 * k + 1] == side[3 * i + 1];
+        if (listed)
+            continue;
+        if (*n == *cap) {
+            int nc = *cap ? 2 * *cap : 16;
+            int *g = realloc(*splits, (size_t)nc * 2 * sizeof(int));
+            if (!g) {
+                st = cb_error_set(err, CB_ERR_NOMEM, "tessellation: out of memory");
+                break;
+            }
+            *splits = g;
+            *cap = nc;
+        }
+        (*splits)[2 * *n] = side[3 * i];
+        (*splits)[2 * *n + 1] = side[3 * i + 1];
+        (*n)++;
+        for (int k = i; k < j; k++)
+            dirty[side[3 * k + 2]] = 1;
+    }
+    free(side);
+    return st;
+}
+
 cb_status cb_tess_body(cb_mesh_t out, const cb_topo_body *b, const cb_tess_opts *o,
                        cb_context *ctx, cb_error *err)
 {
@@ -445,7 +519,8 @@ cb_status cb_tess_body(cb_mesh_t out, const cb_topo_body *b, const cb_tess_opts 
     if (!b->edge_start)
         return cb_error_set(err, CB_ERR_INVALID,
                             "tessellation: the body is not indexed (cb_topo_body_index)");
-    int nf = b->n_faces;
+    int nf = b->n_faces, n_zones = 0, cap_zones = 0;
+    cb_tess_zone *zs = NULL;
     body_mesh m = {{0}, NULL};
     cb_tess_edges_init(&m.es);
     st = cb_tess_edges_sample(&m.es, b, &ro, ctx, err);
@@ -454,12 +529,69 @@ cb_status cb_tess_body(cb_mesh_t out, const cb_topo_body *b, const cb_tess_opts 
         if (!m.fm)
             st = cb_error_set(err, CB_ERR_NOMEM, "tessellation: out of memory");
     }
-    if (!st)
-        st = mesh_faces(m.fm, NULL, nf, b, &m.es, &ro, NULL, 0, ctx, err);
+    /* A face whose boundary chords cross cannot be triangulated: its edges are sampled anew,
+     * more finely round the crossing, and every face is meshed again. */
+    for (int round = 0; !st; round++) {
+        cb_tess_hints h = {zs, n_zones, NULL, 0};
+        st = mesh_faces(m.fm, NULL, nf, b, &m.es, &ro, &h, ctx, err);
+        if (st != CB_ERR_NUMERIC || round == CROSS_ROUNDS)
+            break;
+        int before = n_zones;
+        double tol = fmax(ldexp(ro.chord_tol, -2 * (round + 1)), b->tol);
+        cb_status s2 = CB_OK;
+        for (int f = 0; f < nf && !s2; f++)
+            if (m.fm[f].cross_r > 0)
+                s2 = add_zone(&zs, &n_zones, &cap_zones, m.fm[f].cross_at, m.fm[f].cross_r, f,
+                              tol, err);
+        if (s2 || n_zones == before) {
+            st = s2 ? s2 : st;
+            break;
+        }
+        /* Sampling that the zones leave as it was would fail the same way. */
+        cb_tess_edges es2;
+        cb_tess_edges_init(&es2);
+        s2 = cb_tess_edges_sample_zoned(&es2, b, &ro, zs, n_zones, ctx, err);
+        int same = !s2 && es2.n_points == m.es.n_points &&
+                   !memcmp(es2.t, m.es.t, (size_t)m.es.start[b->n_edges] * sizeof(double));
+        cb_tess_edges_clear(&m.es);
+        m.es = es2;
+        if (s2 || same) {
+            st = s2 ? s2 : st;
+            break;
+        }
+        st = CB_OK;
+    }
+    /* Segments that triangles of two faces share are split in those faces. */
+    int *splits = NULL, n_splits = 0, cap_splits = 0, *list = NULL;
+    unsigned char *dirty = NULL;
+    if (!st) {
+        list = malloc(((size_t)nf + 1) * sizeof(int));
+        dirty = malloc((size_t)nf + 1);
+        if (!list || !dirty)
+            st = cb_error_set(err, CB_ERR_NOMEM, "tessellation: out of memory");
+    }
+    for (int round = 0; round < SPLIT_ROUNDS && !st; round++) {
+        int before = n_splits, n_list = 0;
+        memset(dirty, 0, (size_t)nf);
+        st = shared_sides(&splits, &n_splits, &cap_splits, dirty, m.fm, nf, m.es.n_points, err);
+        if (st || n_splits == before)
+            break;
+        for (int f = 0; f < nf; f++)
+            if (dirty[f])
+                list[n_list++] = f;
+        cb_tess_hints h = {zs, n_zones, splits, n_splits};
+        st = mesh_faces(m.fm, list, n_list, b, &m.es, &ro, &h, ctx, err);
+    }
+    free(list);
+    free(dirty);
     if (!st)
         st = assemble(out, &m.es, m.fm, nf, err);
     if (!st)
-        st = settle_contacts(out, &m, b, &ro, ctx, err);
+        st = settle_contacts(out, &m, b, &ro, zs, n_zones, cap_zones, splits, n_splits, ctx,
+                             err);
+    else
+        free(zs);
+    free(splits);
     body_mesh_clear(&m, nf);
     if (st)
         cb_mesh_clear(out);

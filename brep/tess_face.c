@@ -315,6 +315,8 @@ typedef struct {
     int n_poles;
     cb_tess_zone *zones; /* this face's, where the chordal tolerance is tighter */
     int n_zones;
+    const int *splits; /* cb_tess_hints */
+    int n_splits;
 } face_work;
 
 static void work_clear(face_work *w)
@@ -454,6 +456,18 @@ static int same_edge_chord(const face_work *w, int a, int b)
     return 0;
 }
 
+/* Whether cb_tess_body listed the segment between shared samples a and b as one no face may
+ * keep (it found it a side of triangles of two faces: an edge of four triangles). */
+static int listed_split(const face_work *w, int a, int b)
+{
+    for (int k = 0; k < w->n_splits; k++) {
+        int x = w->splits[2 * k], y = w->splits[2 * k + 1];
+        if ((x == a && y == b) || (x == b && y == a))
+            return 1;
+    }
+    return 0;
+}
+
 /* Whether the (u, v) segment a b (scaled) maps to the single point p: its middle within the
  * chordal tolerance of p. */
 static int collapsed(const face_work *w, const double a[2], const double b[2], const double p[3])
@@ -568,7 +582,7 @@ static int split_side(const face_work *w, int t)
         return -1;
     for (int k = 0; k < 3; k++) {
         int a = w->gid[T->v[(k + 1) % 3]], c = w->gid[T->v[(k + 2) % 3]];
-        if (!T->c[k] && a >= 0 && c >= 0 && same_edge_chord(w, a, c))
+        if (!T->c[k] && a >= 0 && c >= 0 && (same_edge_chord(w, a, c) || listed_split(w, a, c)))
             return k;
     }
     /* A flat triangle on a boundary side: its error comes from the boundary samples, which
@@ -738,6 +752,89 @@ static cb_status unify_pinches(face_loops *L, double su, double sv, double near,
     return CB_OK;
 }
 
+/* A segment of the loops: sample k to the next of its loop, its scaled x range. */
+typedef struct {
+    double x0, x1;
+    int k, next;
+} loop_seg;
+
+static int cmp_seg_x0(const void *x, const void *y)
+{
+    const loop_seg *a = x, *b = y;
+    return (a->x0 > b->x0) - (a->x0 < b->x0);
+}
+
+/* Finds two segments of the loops (scaled (u, v)) that cross at a point inside both: chords of
+ * a curved edge cutting past a vertex or chord of another edge that lies nearer to the curve
+ * than the chords' sag. Such constraints cannot both be edges of a triangulation. Returns 1
+ * with the loop samples of the two segments, k_out[0] -> k_out[1] and k_out[2] -> k_out[3];
+ * 0 when none cross, -1 when out of memory. A sweep over x: each segment is tested against
+ * those whose x range begins inside its own. */
+static int chords_cross(const face_loops *L, double su, double sv, int k_out[4])
+{
+    loop_seg *s = malloc((size_t)(L->n + 1) * sizeof *s);
+    if (!s)
+        return -1;
+    int n = 0;
+    for (int l = 0, start = 0; l < L->n_loops; start = L->loop_end[l++])
+        for (int k = start; k < L->loop_end[l]; k++) {
+            int next = k + 1 < L->loop_end[l] ? k + 1 : start;
+            double xa = L->uv[2 * k] * su, xb = L->uv[2 * next] * su;
+            s[n++] = (loop_seg){fmin(xa, xb), fmax(xa, xb), k, next};
+        }
+    qsort(s, (size_t)n, sizeof *s, cmp_seg_x0);
+    int found = 0;
+    for (int i = 0; i < n && !found; i++)
+        for (int j = i + 1; j < n && s[j].x0 <= s[i].x1 && !found; j++) {
+            double p[4][2];
+            int ks[4] = {s[i].k, s[i].next, s[j].k, s[j].next};
+            for (int q = 0; q < 4; q++) {
+                p[q][0] = L->uv[2 * ks[q]] * su;
+                p[q][1] = L->uv[2 * ks[q] + 1] * sv;
+            }
+            /* Segments meeting at a sample (neighbours in a loop, a pinch) do not cross. */
+            if (cb_tess_orient2d(p[0], p[1], p[2]) * cb_tess_orient2d(p[0], p[1], p[3]) < 0 &&
+                cb_tess_orient2d(p[2], p[3], p[0]) * cb_tess_orient2d(p[2], p[3], p[1]) < 0) {
+                memcpy(k_out, ks, sizeof ks);
+                found = 1;
+            }
+        }
+    free(s);
+    return found;
+}
+
+/* After a failed triangulation: when chords of the loops cross, where (cross: the 3D point
+ * on the surface at the crossing, and the longer of the two chords, the reach of the
+ * refinement cb_tess_body makes there) and an error saying so in place of err's. */
+static cb_status crossing_chords(double cross[4], const face_work *w, const face_loops *L,
+                                 cb_error *err)
+{
+    int k[4];
+    int found = chords_cross(L, w->su, w->sv, k);
+    if (found < 0)
+        return cb_error_set(err, CB_ERR_NOMEM, "out of memory");
+    if (!found)
+        return CB_ERR_NUMERIC;
+    /* Where the two segments cross, by their parameter along the first. */
+    const double *a = L->uv + 2 * k[0], *b = L->uv + 2 * k[1], *c = L->uv + 2 * k[2],
+                 *d = L->uv + 2 * k[3];
+    double den = (b[0] - a[0]) * (d[1] - c[1]) - (b[1] - a[1]) * (d[0] - c[0]);
+    double t = den != 0 ? ((c[0] - a[0]) * (d[1] - c[1]) - (c[1] - a[1]) * (d[0] - c[0])) / den
+                        : 0.5;
+    t = fmin(fmax(t, 0), 1);
+    cb_topo_inverter_eval(cross, w->inv, a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]));
+    const double *x = w->es_xyz;
+    cross[3] = fmax(cb_vec3_dist(x + 3 * L->id[k[0]], x + 3 * L->id[k[1]]),
+                    cb_vec3_dist(x + 3 * L->id[k[2]], x + 3 * L->id[k[3]]));
+    return cb_error_set(err, CB_ERR_NUMERIC,
+                        "triangulation: two chords of the boundary cross in (u, v) near "
+                        "(%.9g, %.9g, %.9g), chords %.3g and %.3g long: the loops touch or "
+                        "cross there, or a curved edge's samples cut past another edge",
+                        cross[0], cross[1], cross[2],
+                        cb_vec3_dist(x + 3 * L->id[k[0]], x + 3 * L->id[k[1]]),
+                        cb_vec3_dist(x + 3 * L->id[k[2]], x + 3 * L->id[k[3]]));
+}
+
 static cb_status triangulate(face_work *w, const face_loops *L, cb_error *err)
 {
     double box[4] = {HUGE_VAL, -HUGE_VAL, HUGE_VAL, -HUGE_VAL};
@@ -826,8 +923,8 @@ static cb_status emit(cb_tess_face_mesh *fm, const face_work *w, int n_shared, i
 
 static cb_status face_run(cb_tess_face_mesh *fm, const cb_topo_body *b, int face,
                           const cb_tess_edges *es, const cb_tess_opts *o,
-                          const cb_tess_zone *zones, int n_zones, cb_context *ctx,
-                          const cb_topo_inverter *inv, cb_error *err)
+                          const cb_tess_hints *h, cb_context *ctx,
+                          const cb_topo_inverter *inv, double cross[4], cb_error *err)
 {
     const cb_topo_face *F = &b->faces[face];
     if (F->count == 0)
@@ -853,12 +950,15 @@ static cb_status face_run(cb_tess_face_mesh *fm, const cb_topo_body *b, int face
         w.es_xyz = es->xyz;
         w.es = es;
         w.face = face;
+        int n_zones = h ? h->n_zones : 0;
         w.zones = n_zones ? malloc((size_t)n_zones * sizeof *w.zones) : NULL;
         if (n_zones && !w.zones)
             st = cb_error_set(err, CB_ERR_NOMEM, "out of memory");
         for (int z = 0; z < n_zones && !st; z++)
-            if (zones[z].face == face)
-                w.zones[w.n_zones++] = zones[z];
+            if (h->zones[z].face == face)
+                w.zones[w.n_zones++] = h->zones[z];
+        w.splits = h ? h->splits : NULL;
+        w.n_splits = h ? h->n_splits : 0;
         w.sign = F->same_sense ? 1 : -1;
         w.cos_tol = cos(o->angle_tol);
         /* Below the chordal tolerance a normal error is invisible, and chasing one across a
@@ -880,6 +980,8 @@ static cb_status face_run(cb_tess_face_mesh *fm, const cb_topo_body *b, int face
             st = unify_pinches(&L, w.su, w.sv, b->tol > 0 ? b->tol : 1e-9 * o->chord_tol, err);
         if (!st)
             st = triangulate(&w, &L, err);
+        if (st == CB_ERR_NUMERIC)
+            st = crossing_chords(cross, &w, &L, err);
     }
     if (!st)
         st = refine(&w, ctx, err);
@@ -896,13 +998,12 @@ cb_status cb_tess_face(cb_tess_face_mesh *fm, const cb_topo_body *b, int face,
                        const cb_tess_edges *es, const cb_tess_opts *o, cb_context *ctx,
                        cb_error *err)
 {
-    return cb_tess_face_zoned(fm, b, face, es, o, NULL, 0, ctx, err);
+    return cb_tess_face_hinted(fm, b, face, es, o, NULL, ctx, err);
 }
 
-cb_status cb_tess_face_zoned(cb_tess_face_mesh *fm, const cb_topo_body *b, int face,
-                             const cb_tess_edges *es, const cb_tess_opts *o,
-                             const cb_tess_zone *zones, int n_zones, cb_context *ctx,
-                             cb_error *err)
+cb_status cb_tess_face_hinted(cb_tess_face_mesh *fm, const cb_topo_body *b, int face,
+                              const cb_tess_edges *es, const cb_tess_opts *o,
+                              const cb_tess_hints *h, cb_context *ctx, cb_error *err)
 {
     cb_tess_face_mesh_clear(fm);
     if (face < 0 || face >= b->n_faces)
@@ -913,13 +1014,16 @@ cb_status cb_tess_face_zoned(cb_tess_face_mesh *fm, const cb_topo_body *b, int f
                             "tessellation: edge samples of another body (%d edges, not %d)",
                             es->n_edges, b->n_edges);
     cb_topo_inverter inv;
+    double cross[4] = {0, 0, 0, 0};
     cb_status st = cb_topo_inverter_init(&inv, &b->surfaces[b->faces[face].surface], b->tol, err);
     if (!st) {
-        st = face_run(fm, b, face, es, o, zones, n_zones, ctx, &inv, err);
+        st = face_run(fm, b, face, es, o, h, ctx, &inv, cross, err);
         cb_topo_inverter_clear(&inv);
     }
     if (st) {
         cb_tess_face_mesh_clear(fm);
+        memcpy(fm->cross_at, cross, sizeof fm->cross_at);
+        fm->cross_r = cross[3];
         if (st != CB_ERR_CANCELLED)
             cb_error_prefix(err, "tessellation: face %d: ", face);
     }

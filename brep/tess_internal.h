@@ -94,10 +94,19 @@ cb_status cb_tess_edges_sample_zoned(cb_tess_edges *es, const cb_topo_body *b,
                                      const cb_tess_opts *o, const cb_tess_zone *zones,
                                      int n_zones, cb_context *ctx, cb_error *err);
 
-/* cb_tess_face with the zones of this face among zones[0 .. n_zones) (NULL, 0: none). */
-cb_status cb_tess_face_zoned(cb_tess_face_mesh *fm, const cb_topo_body *b, int face,
-                             const cb_tess_edges *es, const cb_tess_opts *o,
-                             const cb_tess_zone *zones, int n_zones, cb_context *ctx,
-                             cb_error *err);
+/* What cb_tess_body asks of a face beyond the options: its zones among zones[0 .. n_zones),
+ * and segments no face may keep as a triangle side, splits[2k], splits[2k + 1] (shared
+ * sample ids, either order; a face whose boundary joins them keeps that side). */
+typedef struct {
+    const cb_tess_zone *zones;
+    int n_zones;
+    const int *splits;
+    int n_splits;
+} cb_tess_hints;
+
+/* cb_tess_face with hints h (NULL: none). */
+cb_status cb_tess_face_hinted(cb_tess_face_mesh *fm, const cb_topo_body *b, int face,
+                              const cb_tess_edges *es, const cb_tess_opts *o,
+                              const cb_tess_hints *h, cb_context *ctx, cb_error *err);
 
 #endif

@@ -80,10 +80,13 @@ static const parts_case CASES[] = {
     {"corpus/step/trj2_io1-ca-214.stp", 0, 36.905694138528645,
      {-0.4963696092931887, -0.23447426883943023, 0.8358462946154285},
      {-7.866084733011483, 10.902088143119492, 22.551197767804222}, 13345.76741062293, 3.16, 0},
+    /* draw 1: in the union and difference, chords of a curved edge of a planar face, sampled
+     * at the default chordal tolerance, cut past a vertex of the cut 0.09 inside the curve:
+     * the face's edges are sampled more finely there (brep/tess_body.c) */
     {"corpus/step/trj2_io1-ca-214.stp", 1, 44.824757299029635,
      {-0.08270330469190759, 0.6707244486511097, 0.737081323447218},
      {13.843804932748059, -32.854365100760546, -23.175369807425596}, 10443.04860576789, 3.61,
-     5 /* the union's and difference's triangulation stalls recovering a constraint */},
+     0},
     /* a cut edge running most of the way round a closed B-spline face: its pcurve's way round
      * judged at the edge's tolerance in the mass integration */
     {"corpus/step/trj10_ch1-id-chs.stp", 2, 33.9213379029793,
@@ -95,17 +98,21 @@ static const parts_case CASES[] = {
      {-0.21524722256901632, -0.6466416905412841, 0.7317944774526756},
      {-0.5004220242724419, 0.051289050668659145, 0.33510474556649533}, 0.015179121442459677,
      4.62e-05, 0},
+    /* draw 2, and trj10 draw 0 below: faces meeting at a thin wedge, whose triangles cut
+     * across a bend of their common edges by the same segment (the mesh split there,
+     * brep/tess_body.c) */
     {"corpus/step/trj6_k1-ec-214.stp", 2, 42.2338781232143,
      {0.4781939083988315, 0.7699821608901041, -0.4224429640569905},
      {-0.3747218080931256, -0.45308732098721344, -1.0324196759978346}, 0.012168694500691607,
-     2.04e-05, 1 /* the union's mesh is not closed */},
+     2.04e-05, 0},
     /* an edge of B passing 0.0017 from a seam of A's closed B-spline face, under the weld
      * distance: the node where the curve leaves the face welded onto the seam in 3D but left
-     * 0.0008 short of it in (u, v) (boolean/cut.c snap_ends) */
+     * 0.0008 short of it in (u, v) (boolean/cut.c snap_ends); the mesh of the difference
+     * as trj6 draw 2's */
     {"corpus/step/trj10_ch1-id-chs.stp", 0, 15.563289140790761,
      {-0.020288683766995847, -0.6541669542146539, -0.7560780153691324},
      {0.6384427238371619, 0.33561892461507925, -1.801057376620718}, 390.1732074194523, 0.0122,
-     4 /* the difference's mesh is not closed */},
+     0},
 };
 
 static double volume(const cb_topo_body *b, const char *what)
