@@ -647,14 +647,14 @@ cb_status cb_bool_run(cb_topo_body **out, cb_bool_stats *stats, cb_bool_op op,
 
     double t2 = wall();
     if (!st) {
-        st = _cb_bool_build(out, &stats->unmatched, faces, n_faces, A, B, &cuts, tol,
-                            CB_BOOL_WELD * tol,
-                            err);
+        char where[256] = "";
+        st = _cb_bool_build(out, &stats->unmatched, where, sizeof where, faces, n_faces, A, B,
+                            &cuts, tol, CB_BOOL_WELD * tol, err);
         if (!st && stats->unmatched) {
             st = cb_error_set(err, CB_ERR_NUMERIC,
                               "bool: %d edge%s of the result could not be sewn (the pieces do "
-                              "not close up)",
-                              stats->unmatched, stats->unmatched == 1 ? "" : "s");
+                              "not close up); %s",
+                              stats->unmatched, stats->unmatched == 1 ? "" : "s", where);
             cb_topo_body_free(*out);
             *out = NULL;
         }

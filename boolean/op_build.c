@@ -3,6 +3,7 @@
 #include "boolean/op_internal.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -632,7 +633,8 @@ static cb_status split_t_junctions(builder *bd, op_face *faces, int n_faces,
     return st;
 }
 
-cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, op_face *faces, int n_faces,
+cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, char *where, size_t n_where,
+                         op_face *faces, int n_faces,
                          const cb_topo_body *A, const cb_topo_body *B, const cb_bool_cuts *cuts,
                          double tol, double weld, cb_error *err)
 {
@@ -721,9 +723,21 @@ cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, op_face *faces, int
         b->shells[shell].count = b->n_faces;
         if (b->n_faces == 0)
             b->n_solids = b->n_shells = 0; /* the empty result: no solid at all */
-        for (int e = 0; e < b->n_edges; e++)
-            if (bd.info[e].uses != 2)
-                (*unmatched)++;
+        for (int e = 0; e < b->n_edges; e++) {
+            const edge_info *in = bd.info + e;
+            if (in->uses == 2)
+                continue;
+            if ((*unmatched)++ == 0 && n_where > 0) {
+                char what[64];
+                if (in->cut)
+                    snprintf(what, sizeof what, "intersection curve %d", in->src);
+                else
+                    snprintf(what, sizeof what, "%s's edge %d", in->side ? "B" : "A", in->src);
+                snprintf(where, n_where,
+                         "first near (%.9g, %.9g, %.9g): a piece of %s (faces using it: %d)",
+                         in->mid[0], in->mid[1], in->mid[2], what, in->uses);
+            }
+        }
         for (int e = 0; e < b->n_edges; e++)
             b->edges[e].tol = fmax(b->tol, weld);
         st = cb_topo_body_index(b, err);
