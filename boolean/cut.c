@@ -1099,6 +1099,105 @@ static void snap_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_s
     }
 }
 
+/* Whether segment sg of face f lies on an edge that can hold boundary points (not a seam of
+ * the face, not collapsed, not a straight join along a pole line). */
+static int boundary_seg(const cb_face *f, const cb_face_seg *sg)
+{
+    if (sg->coedge < 0)
+        return 0;
+    int e = f->b->coedges[sg->coedge].edge;
+    for (int k = 0; k < f->n_edges; k++)
+        if (f->edges[k].edge == e)
+            return f->edges[k].boundary;
+    return 0;
+}
+
+/* The point of face f's boundary polygon nearest to uv, in the metric of the surface's
+ * derivatives at uv, into near_uv (lifted next to uv); 0 when the face has no boundary
+ * segment. */
+static int nearest_boundary_uv(double near_uv[2], const cb_face *f, const double uv[2])
+{
+    double d[6][3];
+    cb_topo_inverter_eval_derivs(d, &f->inv, uv[0], uv[1]);
+    double s[2] = {norm3(d[1]), norm3(d[2])}, best = HUGE_VAL;
+    for (int k = 0; k < f->n_segs; k++) {
+        const cb_face_seg *sg = f->segs + k;
+        if (!boundary_seg(f, sg))
+            continue;
+        double p[2], q[2], x[2];
+        for (int i = 0; i < 2; i++) {
+            double P = f->inv.period[i], shift = lift_near(uv[i], sg->p[i], P) - uv[i];
+            p[i] = sg->p[i] - shift;
+            q[i] = sg->q[i] - shift;
+        }
+        double e[2] = {(q[0] - p[0]) * s[0], (q[1] - p[1]) * s[1]};
+        double w[2] = {(uv[0] - p[0]) * s[0], (uv[1] - p[1]) * s[1]};
+        double ee = e[0] * e[0] + e[1] * e[1];
+        double t = ee > 0 ? fmin(fmax((w[0] * e[0] + w[1] * e[1]) / ee, 0), 1) : 0;
+        for (int i = 0; i < 2; i++)
+            x[i] = p[i] + t * (q[i] - p[i]);
+        double g = hypot((x[0] - uv[0]) * s[0], (x[1] - uv[1]) * s[1]);
+        if (g < best) {
+            best = g;
+            near_uv[0] = x[0];
+            near_uv[1] = x[1];
+        }
+    }
+    return best < HUGE_VAL;
+}
+
+/* An intersection curve inside a face continues, at each end that is not on the face's
+ * boundary, in another cut of that face (the curves of closed solids close up). An end that
+ * no other cut of the face meets within weld, off the face's boundary but within weld of it,
+ * is where the curve reaches the boundary through a piece of curve shorter than the weld
+ * distance that the intersection did not give (an edge of the other solid passing that close
+ * to an edge of this face: their faces' curves meet near both edges); left as it is, the
+ * face's arrangement would keep the cut dangling and not split the face along it. Its (u, v)
+ * on that face moves to the nearest point of the boundary (its point in space and its (u, v)
+ * on the other face stay): the pieces' ends weld there. */
+static void attach_loose_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_solid *B,
+                              double weld, double near)
+{
+    for (int k = 0; k < out->n; k++) {
+        cb_bool_cut *c = out->cut + k;
+        if (c->closed)
+            continue;
+        const cb_face *f[2] = {cb_bool_solid_face(A, c->face[0]),
+                               cb_bool_solid_face(B, c->face[1])};
+        int moved = 0;
+        for (int e = 0; e < 2; e++) {
+            int i = e ? c->n - 1 : 0;
+            const double *x = c->xyz + 3 * i;
+            for (int s = 0; s < 2; s++) {
+                int met = 0;
+                for (int j = 0; j < out->n && !met; j++) {
+                    const cb_bool_cut *d = out->cut + j;
+                    if (j == k || d->closed || d->face[s] != c->face[s])
+                        continue;
+                    for (int h = 0; h < 2 && !met; h++) {
+                        const double *y = d->xyz + 3 * (h ? d->n - 1 : 0);
+                        double g[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
+                        met = norm3(g) <= weld;
+                    }
+                }
+                double *uv = c->uv[s] + 2 * i, to[2] = {0, 0}, y[3];
+                if (met || cb_topo_inverter_collapsed(&f[s]->inv, uv[0], uv[1]) ||
+                    on_split_boundary(f[s], uv, near) || !nearest_boundary_uv(to, f[s], uv))
+                    continue;
+                cb_topo_inverter_eval(y, &f[s]->inv, to[0], to[1]);
+                double g[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
+                if (norm3(g) > weld)
+                    continue;
+                uv[0] = to[0];
+                uv[1] = to[1];
+                moved = 1;
+            }
+        }
+        if (moved)
+            tangents(c, f);
+    }
+}
+
 cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
                             const cb_bool_solid *A, const cb_bool_solid *B, double tol,
                             cb_error *err)
@@ -1204,6 +1303,8 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
         st = _cb_cuts_imprint(out, r, A, B, tol, err);
     if (!st)
         snap_ends(out, A, B, CB_BOOL_WELD * tol, CB_BOOL_SNAP * tol);
+    if (!st)
+        attach_loose_ends(out, A, B, CB_BOOL_WELD * tol, CB_BOOL_SNAP * tol);
     if (st)
         cb_bool_cuts_clear(out);
     return st;

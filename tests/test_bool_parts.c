@@ -87,6 +87,12 @@ static const parts_case CASES[] = {
      {-0.08270330469190759, 0.6707244486511097, 0.737081323447218},
      {13.843804932748059, -32.854365100760546, -23.175369807425596}, 10443.04860576789, 3.61,
      0},
+    /* draw 2: an edge of the copy passing 0.006 from an edge of a planar face of it (35
+     * tolerances), the face's curve ending there off its boundary, the piece of curve between
+     * not given: the end moved onto the boundary (boolean/cut.c attach_loose_ends) */
+    {"corpus/step/trj2_io1-ca-214.stp", 2, 43.71071435137171,
+     {0.5632665988367054, 0.5721805100773375, -0.5961041876405231},
+     {22.311827341829794, 3.5308602814942804, 38.50595809431225}, 10918.075533705232, 3.22, 0},
     /* a cut edge running most of the way round a closed B-spline face: its pcurve's way round
      * judged at the edge's tolerance in the mass integration */
     {"corpus/step/trj10_ch1-id-chs.stp", 2, 33.9213379029793,
