@@ -166,13 +166,10 @@ static double window_lo(const cb_face *f, int i)
     return spans_period(a, b, P) ? a : 0.5 * (a + b) - 0.5 * P;
 }
 
-/* Whether (u, v) lies on the boundary of the face's split: within near of a boundary edge
- * (cb_face_classify_uv ON), or on a window's end where the face spans the whole period (its
- * seam, which the split's loop polygon has on both ends of the window). */
-static int on_split_boundary(const cb_face *f, const double uv[2], double near)
+/* Whether (u, v) lies on a window's end of a face that spans the whole period there (its seam;
+ * see on_split_boundary). */
+static int on_window_end(const cb_face *f, const double uv[2])
 {
-    if (cb_face_classify_uv(f, uv[0], uv[1], near) == CB_FACE_ON)
-        return 1;
     for (int d = 0; d < 2; d++) {
         double P = f->inv.period[d], a, b;
         if (!(P > 0))
@@ -182,6 +179,14 @@ static int on_split_boundary(const cb_face *f, const double uv[2], double near)
             return 1;
     }
     return 0;
+}
+
+/* Whether (u, v) lies on the boundary of the face's split: within near of a boundary edge
+ * (cb_face_classify_uv ON), or on a window's end where the face spans the whole period (its
+ * seam, which the split's loop polygon has on both ends of the window). */
+static int on_split_boundary(const cb_face *f, const double uv[2], double near)
+{
+    return cb_face_classify_uv(f, uv[0], uv[1], near) == CB_FACE_ON || on_window_end(f, uv);
 }
 
 static double wrap(double x, double lo, double P)
@@ -1112,38 +1117,91 @@ static int boundary_seg(const cb_face *f, const cb_face_seg *sg)
     return 0;
 }
 
-/* The point of face f's boundary polygon nearest to uv, in the metric of the surface's
- * derivatives at uv, into near_uv (lifted next to uv); 0 when the face has no boundary
- * segment. */
+/* The point of face f's boundary nearest to uv, in the metric of the surface's derivatives at
+ * uv, into near_uv (lifted next to uv): on the pcurve of the loop polygon's segment nearest to
+ * uv (golden-section search over the segment's pcurve parameters and one segment's length on
+ * each side, as the polygon may stray from the pcurve by its deviation), since near a cut the
+ * arrangement's loop polylines follow the pcurves (op.c boundary_srcs); the polygon's point
+ * where the coedge has no pcurve. 0 when the face has no boundary segment. */
 static int nearest_boundary_uv(double near_uv[2], const cb_face *f, const double uv[2])
 {
     double d[6][3];
     cb_topo_inverter_eval_derivs(d, &f->inv, uv[0], uv[1]);
-    double s[2] = {norm3(d[1]), norm3(d[2])}, best = HUGE_VAL;
+    double sc[2] = {norm3(d[1]), norm3(d[2])}, best = HUGE_VAL, lift[2] = {0, 0};
+    const cb_face_seg *bs = NULL;
     for (int k = 0; k < f->n_segs; k++) {
         const cb_face_seg *sg = f->segs + k;
         if (!boundary_seg(f, sg))
             continue;
-        double p[2], q[2], x[2];
+        double p[2], q[2], x[2], shift[2];
         for (int i = 0; i < 2; i++) {
-            double P = f->inv.period[i], shift = lift_near(uv[i], sg->p[i], P) - uv[i];
-            p[i] = sg->p[i] - shift;
-            q[i] = sg->q[i] - shift;
+            shift[i] = lift_near(uv[i], sg->p[i], f->inv.period[i]) - uv[i];
+            p[i] = sg->p[i] - shift[i];
+            q[i] = sg->q[i] - shift[i];
         }
-        double e[2] = {(q[0] - p[0]) * s[0], (q[1] - p[1]) * s[1]};
-        double w[2] = {(uv[0] - p[0]) * s[0], (uv[1] - p[1]) * s[1]};
+        double e[2] = {(q[0] - p[0]) * sc[0], (q[1] - p[1]) * sc[1]};
+        double w[2] = {(uv[0] - p[0]) * sc[0], (uv[1] - p[1]) * sc[1]};
         double ee = e[0] * e[0] + e[1] * e[1];
         double t = ee > 0 ? fmin(fmax((w[0] * e[0] + w[1] * e[1]) / ee, 0), 1) : 0;
         for (int i = 0; i < 2; i++)
             x[i] = p[i] + t * (q[i] - p[i]);
-        double g = hypot((x[0] - uv[0]) * s[0], (x[1] - uv[1]) * s[1]);
+        double g = hypot((x[0] - uv[0]) * sc[0], (x[1] - uv[1]) * sc[1]);
         if (g < best) {
             best = g;
             near_uv[0] = x[0];
             near_uv[1] = x[1];
+            bs = sg;
+            lift[0] = sg->shift[0] - shift[0];
+            lift[1] = sg->shift[1] - shift[1];
         }
     }
-    return best < HUGE_VAL;
+    if (!bs)
+        return 0;
+    const cb_topo_coedge *co = f->b->coedges + bs->coedge;
+    if (co->pcurve < 0)
+        return 1;
+    const cb_topo_curve *pc = f->b->pcurves + co->pcurve;
+    double span = bs->s1 - bs->s0, a = bs->s0 - span, z = bs->s1 + span;
+    double lo = fmin(a, z), hi = fmax(a, z);
+    /* The pcurve's own parameter range bounds the search. */
+    double r0 = fmin(bs->s0, bs->s1), r1 = fmax(bs->s0, bs->s1);
+    for (int k = 0; k < f->n_segs; k++)
+        if (f->segs[k].coedge == bs->coedge) {
+            r0 = fmin(r0, fmin(f->segs[k].s0, f->segs[k].s1));
+            r1 = fmax(r1, fmax(f->segs[k].s0, f->segs[k].s1));
+        }
+    lo = fmax(lo, r0);
+    hi = fmin(hi, r1);
+    const double gr = 0.6180339887498949;
+    double m1 = hi - gr * (hi - lo), m2 = lo + gr * (hi - lo), f1, f2, y[3];
+#define PC_DIST(s_, out_)                                                                      \
+    do {                                                                                       \
+        cb_topo_pcurve_eval(y, pc, (s_));                                                      \
+        (out_) = hypot((y[0] + lift[0] - uv[0]) * sc[0], (y[1] + lift[1] - uv[1]) * sc[1]);    \
+    } while (0)
+    PC_DIST(m1, f1);
+    PC_DIST(m2, f2);
+    for (int it = 0; it < 60; it++) {
+        if (f1 <= f2) {
+            hi = m2;
+            m2 = m1;
+            f2 = f1;
+            m1 = hi - gr * (hi - lo);
+            PC_DIST(m1, f1);
+        } else {
+            lo = m1;
+            m1 = m2;
+            f1 = f2;
+            m2 = lo + gr * (hi - lo);
+            PC_DIST(m2, f2);
+        }
+    }
+#undef PC_DIST
+    double s_best = f1 <= f2 ? m1 : m2;
+    cb_topo_pcurve_eval(y, pc, s_best);
+    near_uv[0] = y[0] + lift[0];
+    near_uv[1] = y[1] + lift[1];
+    return 1;
 }
 
 /* An intersection curve inside a face continues, at each end that is not on the face's
@@ -1182,11 +1240,13 @@ static void attach_loose_ends(cb_bool_cuts *out, const cb_bool_solid *A, const c
                 }
                 double *uv = c->uv[s] + 2 * i, to[2] = {0, 0}, y[3];
                 if (met || cb_topo_inverter_collapsed(&f[s]->inv, uv[0], uv[1]) ||
-                    on_split_boundary(f[s], uv, near) || !nearest_boundary_uv(to, f[s], uv))
+                    on_window_end(f[s], uv) || !nearest_boundary_uv(to, f[s], uv))
                     continue;
+                /* Within half the snap distance the arrangement joins the end to the loop
+                 * as it is. */
                 cb_topo_inverter_eval(y, &f[s]->inv, to[0], to[1]);
                 double g[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
-                if (norm3(g) > weld)
+                if (norm3(g) <= 0.5 * near || norm3(g) > weld)
                     continue;
                 uv[0] = to[0];
                 uv[1] = to[1];

@@ -33,84 +33,95 @@ typedef struct {
     int no_mesh;      /* operations (bit k: ops[k] of run_case) whose result's mesh is not
                          checked: known to fail (bench/README.md lists them), the B-rep still
                          checked; 0 for the others */
+    int skip;         /* operations not run (bit k as above): known to be refused
+                         (bench/README.md); inclusion-exclusion is then not checked */
 } parts_case;
 
 static const parts_case CASES[] = {
     {"models/ujoint_fork.step", 0, 30.576083296203418,
      {-0.27211509281185203, 0.96179927251897535, 0.029925501599254601},
-     {25.498955597526518, 8.9148029240112656, 30.634394383433754}, 4974.8132437652712, 1.83, 0},
+     {25.498955597526518, 8.9148029240112656, 30.634394383433754}, 4974.8132437652712, 1.83, 0, 0},
     {"models/ujoint_fork.step", 1, 59.568266183345365,
      {-0.84236743098377764, 0.16440931897304484, 0.51321212675911143},
-     {9.9516747759695559, 5.2977124118393224, -9.972589903988208}, 20508.020447523661, 4.82, 0},
+     {9.9516747759695559, 5.2977124118393224, -9.972589903988208}, 20508.020447523661, 4.82, 0, 0},
     {"models/ujoint_fork.step", 2, 52.800408255541207,
      {0.62182171857205604, -0.71284971582884793, 0.32431933792918599},
-     {-2.2926651532806108, 22.19238216392527, -0.07293354911127127}, 12403.692005598446, 4.15, 0},
+     {-2.2926651532806108, 22.19238216392527, -0.07293354911127127}, 12403.692005598446, 4.15, 0, 0},
     /* a cone band 0.0144 wide crossed by a cylinder: the clipping's sample between two
      * outside ones was called slid off the chord (the chord runs round the cylinder, its
      * extent along the axis next to nothing) and the piece across the band was dropped from a
      * certified pair (ssi/clip.c mid_sample; 11 edges unsewn) */
     {"corpus/step/OCC2368.stp", 0, 29.47190716036811,
      {0.8068445164274971, -0.1128827286597875, -0.5798787941296},
-     {-15.880481888939928, 56.25369611953998, -11.620395912651759}, 98461.37196170723, 21.1, 0},
+     {-15.880481888939928, 56.25369611953998, -11.620395912651759}, 98461.37196170723, 21.1, 0, 0},
     {"corpus/step/OCC2368.stp", 1, 8.2143832470671434,
      {0.45614142115039424, 0.58531217032409555, -0.67033175904278597},
-     {19.910091179598876, -24.433506812979939, -31.288642882010762}, 88864.159544235052, 17, 0},
+     {19.910091179598876, -24.433506812979939, -31.288642882010762}, 88864.159544235052, 17, 0, 0},
     {"corpus/step/OCC2368.stp", 2, 49.011519398551371,
      {-0.80611646160686445, -0.59155289714979831, 0.015537702536373798},
-     {34.866040107769059, -45.797947096572159, 19.828819976402293}, 72411.145152039884, 16.8, 0},
+     {34.866040107769059, -45.797947096572159, 19.828819976402293}, 72411.145152039884, 16.8, 0, 0},
     /* trj5 turned 7 degrees: curves turning corners on the creases of its extruded-polyline
      * B-spline walls (kink_split), boundary pieces ending at the creases (their edges'
      * pcurves kept), edges inverted next to a crease (the inverter's restart) */
     {"models/trj5_k1-al-214.stp", 1, 7.0279311799323043,
      {0.65339800319336172, 0.73693772093539778, 0.17318731156025746},
      {0.070272403717423673, 1.492553101566471, 0.64939584095908687}, 0.29307107223056023,
-     0.00049, 0},
+     0.00049, 0, 0},
     {"corpus/step/trj9_io1-sy-214.stp", 0, 50.716860759438177,
      {-0.95865219685044434, 0.23529752824489181, -0.16006573235911917},
-     {26.943761607248486, -6.7500554075926402, 12.523609391115301}, 7597.1699902479359, 2.31, 0},
+     {26.943761607248486, -6.7500554075926402, 12.523609391115301}, 7597.1699902479359, 2.31, 0, 0},
     {"corpus/step/trj9_io1-sy-214.stp", 1, 14.942403502997619,
      {0.6198902097729132, 0.19367342983769489, 0.76041221084527388},
-     {16.856472609938564, -20.990362068604909, -33.173079771806208}, 3612.8511020217547, 1.7, 0},
+     {16.856472609938564, -20.990362068604909, -33.173079771806208}, 3612.8511020217547, 1.7, 0, 0},
     {"corpus/step/trj9_io1-sy-214.stp", 2, 33.425959463184668,
      {-0.15636709049764819, 0.046724135386699166, -0.98659322325954879},
-     {-4.8188636109080614, -11.879345365078935, 21.17584821169822}, 11111.045668505898, 3.26, 0},
+     {-4.8188636109080614, -11.879345365078935, 21.17584821169822}, 11111.045668505898, 3.26, 0, 0},
     /* B-spline half cylinders of rounded conic weights: the algebraic route's clipping kept a
      * traced piece only where the Dixon inversion found a preimage in the patch, and it found
      * none at all on them (ssi/clip.c keep_piece; 111 edges left unsewn) */
     {"corpus/step/trj2_io1-ca-214.stp", 0, 36.905694138528645,
      {-0.4963696092931887, -0.23447426883943023, 0.8358462946154285},
-     {-7.866084733011483, 10.902088143119492, 22.551197767804222}, 13345.76741062293, 3.16, 0},
+     {-7.866084733011483, 10.902088143119492, 22.551197767804222}, 13345.76741062293, 3.16, 0, 0},
     /* draw 1: in the union and difference, chords of a curved edge of a planar face, sampled
      * at the default chordal tolerance, cut past a vertex of the cut 0.09 inside the curve:
      * the face's edges are sampled more finely there (brep/tess_body.c) */
     {"corpus/step/trj2_io1-ca-214.stp", 1, 44.824757299029635,
      {-0.08270330469190759, 0.6707244486511097, 0.737081323447218},
      {13.843804932748059, -32.854365100760546, -23.175369807425596}, 10443.04860576789, 3.61,
-     0},
+     0, 0},
     /* draw 2: an edge of the copy passing 0.006 from an edge of a planar face of it (35
      * tolerances), the face's curve ending there off its boundary, the piece of curve between
      * not given: the end moved onto the boundary (boolean/cut.c attach_loose_ends) */
     {"corpus/step/trj2_io1-ca-214.stp", 2, 43.71071435137171,
      {0.5632665988367054, 0.5721805100773375, -0.5961041876405231},
-     {22.311827341829794, 3.5308602814942804, 38.50595809431225}, 10918.075533705232, 3.22, 0},
+     {22.311827341829794, 3.5308602814942804, 38.50595809431225}, 10918.075533705232, 3.22, 0, 0},
     /* a cut edge running most of the way round a closed B-spline face: its pcurve's way round
      * judged at the edge's tolerance in the mass integration */
     {"corpus/step/trj10_ch1-id-chs.stp", 2, 33.9213379029793,
      {-0.02383298506630569, -0.8617711418472894, 0.5067370993938063},
-     {1.5273299131335072, -3.082801158217376, -2.760148266083595}, 213.62522143104988, 0.00948, 0},
+     {1.5273299131335072, -3.082801158217376, -2.760148266083595}, 213.62522143104988, 0.00948, 0, 0},
     /* a band of revolution with a slot half a turn from its seam: the slot's loop lifted to
      * the band's range (brep/face.c) */
     {"corpus/step/trj6_k1-ec-214.stp", 1, 57.393675131325416,
      {-0.21524722256901632, -0.6466416905412841, 0.7317944774526756},
      {-0.5004220242724419, 0.051289050668659145, 0.33510474556649533}, 0.015179121442459677,
-     4.62e-05, 0},
+     4.62e-05, 0, 0},
     /* draw 2, and trj10 draw 0 below: faces meeting at a thin wedge, whose triangles cut
      * across a bend of their common edges by the same segment (the mesh split there,
      * brep/tess_body.c) */
     {"corpus/step/trj6_k1-ec-214.stp", 2, 42.2338781232143,
      {0.4781939083988315, 0.7699821608901041, -0.4224429640569905},
      {-0.3747218080931256, -0.45308732098721344, -1.0324196759978346}, 0.012168694500691607,
-     2.04e-05, 0},
+     2.04e-05, 0, 0},
+    /* draw 0, the union: cut ends 7.2e-5 (12 tol) off a face's boundary in (u, v), where the
+     * loop polygon strays from the pcurves by up to 3.2e-4 and the arrangement follows the
+     * pcurves: moved onto the pcurve (boolean/cut.c attach_loose_ends). The intersection's
+     * mesh crosses itself and the difference is not valid (a face turned against its
+     * neighbour across an edge 0.0007 long): not run */
+    {"corpus/step/trj6_k1-ec-214.stp", 0, 34.55451796226792,
+     {-0.1626333778622413, -0.9836260158455326, 0.07765465444493094},
+     {0.04727228733701714, 0.11091452978182566, 0.6303925946086909}, 0.06321539830044816,
+     2.28e-05, 0, 6},
     /* an edge of B passing 0.0017 from a seam of A's closed B-spline face, under the weld
      * distance: the node where the curve leaves the face welded onto the seam in 3D but left
      * 0.0008 short of it in (u, v) (boolean/cut.c snap_ends); the mesh of the difference
@@ -118,7 +129,7 @@ static const parts_case CASES[] = {
     {"corpus/step/trj10_ch1-id-chs.stp", 0, 15.563289140790761,
      {-0.020288683766995847, -0.6541669542146539, -0.7560780153691324},
      {0.6384427238371619, 0.33561892461507925, -1.801057376620718}, 390.1732074194523, 0.0122,
-     0},
+     0, 0},
 };
 
 static double volume(const cb_topo_body *b, const char *what)
@@ -184,6 +195,8 @@ static void run_case(const char *shared, const parts_case *c)
     const cb_bool_op ops[3] = {CB_BOOL_UNION, CB_BOOL_INTERSECTION, CB_BOOL_DIFFERENCE};
     const double truth[3] = {va + vb - c->vi, c->vi, va - c->vi};
     for (int k = 0; k < 3 && B; k++) {
+        if (c->skip >> k & 1)
+            continue;
         cb_topo_body *R = NULL;
         cb_status st = cb_bool_run(&R, NULL, ops[k], A, B, NULL, NULL, &err);
         CHECK(st == CB_OK, "%s draw %d %s: %s", name, c->draw, cb_bool_op_name(ops[k]), err.msg);
@@ -214,7 +227,7 @@ static void run_case(const char *shared, const parts_case *c)
         }
         cb_topo_body_free(R);
     }
-    if (B)
+    if (B && !c->skip)
         CHECK(fabs(got[0] + got[1] - va - vb) <= 2e-6 * (va + vb) &&
                   fabs(got[2] + got[1] - va) <= 2e-6 * va,
               "%s draw %d: inclusion-exclusion: union %.9g + intersection %.9g vs %.9g, "
