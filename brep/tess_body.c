@@ -439,15 +439,6 @@ static cb_status settle_contacts(cb_mesh_t out, body_mesh *m, const cb_topo_body
     return st;
 }
 
-static int cmp_side(const void *x, const void *y)
-{
-    const int *a = x, *b = y;
-    for (int k = 0; k < 3; k++)
-        if (a[k] != b[k])
-            return a[k] < b[k] ? -1 : 1;
-    return 0;
-}
-
 /* Segments between two shared samples that are sides of triangles of more than one face
  * while no face's boundary joins them: where two faces meet at a thin wedge (surfaces
  * crossing at a small angle), both see a bend of their common edges from its convex side
@@ -474,7 +465,7 @@ static cb_status shared_sides(int **splits, int *n, int *cap, unsigned char *dir
                 side[3 * m + 2] = f;
                 m++;
             }
-    qsort(side, (size_t)m, 3 * sizeof(int), cmp_side);
+    qsort(side, (size_t)m, 3 * sizeof(int), cb_tess_cmp_int3);
     cb_status st = CB_OK;
     for (int i = 0, j; i < m && !st; i = j) {
         for (j = i + 1; j < m && side[3 * j] == side[3 * i] && side[3 * j + 1] == side[3 * i + 1];

@@ -187,7 +187,7 @@ static int subdivide(tlist *l, const edge_job *j, double ta, double tb, double m
     return tlist_push(l, tb);
 }
 
-static int cmp_pair(const void *a, const void *b)
+int cb_tess_cmp_int3(const void *a, const void *b)
 {
     const int *x = a, *y = b;
     for (int k = 0; k < 3; k++)
@@ -214,7 +214,7 @@ static char *parallel_edges(const cb_topo_body *b)
         pairs[3 * e + 1] = a < c ? c : a;
         pairs[3 * e + 2] = e;
     }
-    qsort(pairs, (size_t)b->n_edges, 3 * sizeof(int), cmp_pair);
+    qsort(pairs, (size_t)b->n_edges, 3 * sizeof(int), cb_tess_cmp_int3);
     for (int k = 1; k < b->n_edges; k++)
         if (pairs[3 * k] == pairs[3 * k - 3] && pairs[3 * k + 1] == pairs[3 * k - 2])
             par[pairs[3 * k + 2]] = par[pairs[3 * k - 1]] = 1;

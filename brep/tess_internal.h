@@ -18,6 +18,9 @@ int cb_tess_orient2d(const double a[2], const double b[2], const double c[2]);
 double cb_tess_incircle(const double a[2], const double b[2], const double c[2],
                         const double d[2]);
 
+/* qsort order of triples of ints, lexicographic. */
+int cb_tess_cmp_int3(const void *a, const void *b);
+
 /* ---------------------------------------------------------------- triangulation ------------ */
 
 /* Edge i of a triangle is the one opposite v[i]: (v[i + 1], v[i + 2]) mod 3; n[i] is the
