@@ -1117,6 +1117,15 @@ static int boundary_seg(const cb_face *f, const cb_face_seg *sg)
     return 0;
 }
 
+/* Distance from uv to pcurve pc at parameter s moved by lift, in the metric sc. */
+static double pcurve_dist(const cb_topo_curve *pc, double s, const double lift[2],
+                          const double uv[2], const double sc[2])
+{
+    double y[3];
+    cb_topo_pcurve_eval(y, pc, s);
+    return hypot((y[0] + lift[0] - uv[0]) * sc[0], (y[1] + lift[1] - uv[1]) * sc[1]);
+}
+
 /* The point of face f's boundary nearest to uv, in the metric of the surface's derivatives at
  * uv, into near_uv (lifted next to uv): on the pcurve of the loop polygon's segment nearest to
  * uv (golden-section search over the segment's pcurve parameters and one segment's length on
@@ -1174,29 +1183,23 @@ static int nearest_boundary_uv(double near_uv[2], const cb_face *f, const double
     hi = fmin(hi, r1);
     const double gr = 0.6180339887498949;
     double m1 = hi - gr * (hi - lo), m2 = lo + gr * (hi - lo), f1, f2, y[3];
-#define PC_DIST(s_, out_)                                                                      \
-    do {                                                                                       \
-        cb_topo_pcurve_eval(y, pc, (s_));                                                      \
-        (out_) = hypot((y[0] + lift[0] - uv[0]) * sc[0], (y[1] + lift[1] - uv[1]) * sc[1]);    \
-    } while (0)
-    PC_DIST(m1, f1);
-    PC_DIST(m2, f2);
+    f1 = pcurve_dist(pc, m1, lift, uv, sc);
+    f2 = pcurve_dist(pc, m2, lift, uv, sc);
     for (int it = 0; it < 60; it++) {
         if (f1 <= f2) {
             hi = m2;
             m2 = m1;
             f2 = f1;
             m1 = hi - gr * (hi - lo);
-            PC_DIST(m1, f1);
+            f1 = pcurve_dist(pc, m1, lift, uv, sc);
         } else {
             lo = m1;
             m1 = m2;
             f1 = f2;
             m2 = lo + gr * (hi - lo);
-            PC_DIST(m2, f2);
+            f2 = pcurve_dist(pc, m2, lift, uv, sc);
         }
     }
-#undef PC_DIST
     double s_best = f1 <= f2 ? m1 : m2;
     cb_topo_pcurve_eval(y, pc, s_best);
     near_uv[0] = y[0] + lift[0];
@@ -1211,8 +1214,9 @@ static int nearest_boundary_uv(double near_uv[2], const cb_face *f, const double
  * distance that the intersection did not give (an edge of the other solid passing that close
  * to an edge of this face: their faces' curves meet near both edges); left as it is, the
  * face's arrangement would keep the cut dangling and not split the face along it. Its (u, v)
- * on that face moves to the nearest point of the boundary (its point in space and its (u, v)
- * on the other face stay): the pieces' ends weld there. */
+ * on that face moves to the nearest point of the boundary's pcurves (its point in space and
+ * its (u, v) on the other face stay): the pieces' ends weld there. Ends within half the snap
+ * distance of the boundary stay as they are: the arrangement joins them to it. */
 static void attach_loose_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_solid *B,
                               double weld, double near)
 {

@@ -337,7 +337,9 @@ static cb_status remesh(body_mesh *m2, const body_mesh *m, const cb_tess_edges *
  * (CONTACT_ROUNDS rounds, the chordal tolerance quartered each round), until no triangles
  * cross. Crossings that remain are left for the mesh check to report, as are those of a
  * wrong body, which no refinement removes; so is a mesh a round could not make, or one
- * that would grow past CONTACT_GROWTH. out is m assembled, and stays so. */
+ * that would grow past CONTACT_GROWTH. out is m assembled, and stays so. The zones it starts
+ * from, zs[0 .. n_zones) of cap_zones (those of crossing chords), are its own afterwards (freed
+ * here); splits as cb_tess_hints. */
 static cb_status settle_contacts(cb_mesh_t out, body_mesh *m, const cb_topo_body *b,
                                  const cb_tess_opts *o, cb_tess_zone *zs, int n_zones,
                                  int cap_zones, const int *splits, int n_splits,
