@@ -762,6 +762,16 @@ static cb_status densify(sample **D, slong *nd, slong *alloc, const sample *a, c
     return densify(D, nd, alloc, &m, b, g, depth + 1);
 }
 
+/* Whether X lies within 10 tol of the box of P's control points (which holds P's patch). */
+static int near_net(const _cb_ssi_pair_geom *g, const double X[3])
+{
+    double slack = 10 * g->tol;
+    for (int k = 0; k < 3; k++)
+        if (!(X[k] >= g->p_net.lo[k] - slack && X[k] <= g->p_net.hi[k] + slack))
+            return 0;
+    return 1;
+}
+
 /* Sample i of the traced curve: P's parameters continued from the neighbouring sample prev
  * (a fresh inversion when there is none, or it lies off the surfaces), refined onto both
  * surfaces, and whether it lies inside P's box. */
@@ -802,6 +812,24 @@ static void place_sample(sample *S, const sample *prev, const _cb_ssi_trace_curv
             S->in = 1;
         }
     }
+    if (!S->in && !started && !g->p_analytic && !g->p_pencil && near_net(g, X)) {
+        /* A planar patch (no pencil): its map continued past the box folds back over the
+         * plane, and the continuation may follow a preimage outside the box of a point the
+         * patch holds (trj5 against its copy: a line through a flat wall and a planar span of
+         * a closed strip, the piece inside both dropped from a certified pair). A start from
+         * the grid over the box finds the inside one. Only for points within the box of the
+         * patch's control points: every point of the patch lies there. */
+        _cb_ssi_pq alt = {{0, 0}, {tc->st[2 * i], tc->st[2 * i + 1]}, tc->fixed[i]};
+        double Xa[3];
+        p_start(alt.uv, g, X);
+        double gap = refine(&alt, Xa, g);
+        if (inside_p(g, &alt, gap)) {
+            S->pq = alt;
+            S->gap = gap;
+            memcpy(S->X, Xa, sizeof Xa);
+            S->in = 1;
+        }
+    }
 }
 
 /* One traced curve of _cb_ssi_clip: its pieces appended to out. */
@@ -831,8 +859,9 @@ static cb_status clip_curve(_cb_ssi_piece_set *out, const _cb_ssi_trace_curve *t
         place_sample(S + i, S + i - 1, tc, i, g, p_spline);
     /* The point where the curve leaves the box is sought between an inside sample and its
      * outside neighbour, along their parameters: both must be on one sheet. An outside
-     * neighbour is placed again from the inside sample's parameters. */
-    for (slong i = 0; p_spline && i < n; i++)
+     * neighbour is placed again from the inside sample's parameters (on a planar P too: an
+     * inside sample may have been placed from the grid, place_sample). */
+    for (slong i = 0; !g->p_analytic && i < n; i++)
         for (int side = -1; side <= 1 && S[i].in; side += 2) {
             slong j = i + side;
             if (j < 0 || j >= n || S[j].in)

@@ -9,8 +9,10 @@
 #include <string.h>
 #include <time.h>
 
+#include "brep/mass.h"
 #include "check.h"
 #include "io/step.h"
+#include "io/step_write.h"
 #include "models/models.h"
 #include "ssi/dixon.h"
 #include "ssi/implicit.h"
@@ -917,6 +919,98 @@ static void test_fallback(void)
     cb_topo_body_free(B);
 }
 
+/* trj5_k1-al-214 against its copy of bench_parts' draw 2 (seed 1: turned 57.2 degrees about
+ * its centroid, written and read as a STEP file like the bench's copies): A's face 36, an
+ * extruded polyline (flat spans), over v in [10, 12] (two patches), against the span v in
+ * [9, 10] of B's face 32, a planar span of a strip closed in v. A line of the wall crosses the
+ * span from its side v = 10 to its side u = 1. P is B's planar span (no Dixon pencil), whose
+ * map continued past its box folds back over the plane: the clipping's continuation followed
+ * a preimage outside the box from the first sample on, and the pair was certified with no
+ * curve. */
+static void test_planar_fold(void)
+{
+    const char *d = getenv("COLIBRI_SHARED");
+    char path[1024], tmp[1024];
+    snprintf(path, sizeof path, "%s/models/trj5_k1-al-214.stp", d ? d : "../shared");
+    snprintf(tmp, sizeof tmp, "%s/colibri_planar_fold_%ld.step",
+             getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp", (long)clock());
+    cb_topo_body *A = NULL, *B = NULL;
+    cb_error err;
+    cb_mass_props m;
+    cb_status st = cb_step_read(&A, path, &err);
+    if (!st)
+        st = cb_mass_body(&m, A, 1e-9, NULL, &err);
+    if (!st)
+        st = cb_step_read(&B, path, &err);
+    if (!st) {
+        const double axis[3] = {0.5948139459746077, -0.3172518645243878, -0.7386119577490714},
+                     shift[3] = {2.013154756365914, -0.06120186343901141, -0.03312875963638283};
+        cb_xform r, t, x;
+        cb_xform_rotation(&r, m.centroid, axis, 57.19893298142382 * 3.14159265358979323846 / 180);
+        cb_xform_translation(&t, shift);
+        cb_xform_compose(&x, &t, &r);
+        cb_topo_body_transform(B, &x);
+        st = cb_step_write(B, tmp, "planar fold", &err);
+        cb_topo_body_free(B);
+        B = NULL;
+        if (!st)
+            st = cb_step_read(&B, tmp, &err);
+        remove(tmp);
+    }
+    CHECK(st == CB_OK, "%s: %s", path, err.msg);
+    cb_nurbs_surface_t a, b, rest;
+    cb_nurbs_surface_init(a);
+    cb_nurbs_surface_init(b);
+    cb_nurbs_surface_init(rest);
+    if (!st)
+        st = cb_nurbs_surface_set(a, A->surfaces[A->faces[36].surface].nurbs, &err);
+    if (!st)
+        st = cb_nurbs_surface_set(b, B->surfaces[B->faces[32].surface].nurbs, &err);
+    if (!st)
+        st = cb_nurbs_surface_split(rest, a, a, CB_DIR_V, 10, &err);
+    if (!st)
+        st = cb_nurbs_surface_split(a, rest, a, CB_DIR_V, 12, &err);
+    if (!st)
+        st = cb_nurbs_surface_split(rest, b, b, CB_DIR_V, 9, &err);
+    CHECK(st == CB_OK, "planar fold: nets: %s", err.msg);
+    if (!st) {
+        cb_ssi_result_t r;
+        cb_ssi_result_init(r);
+        cb_ssi_surface sa, sb;
+        cb_ssi_surface_set_nurbs(&sa, a);
+        cb_ssi_surface_set_nurbs(&sb, b);
+        cb_ssi_opts o;
+        cb_ssi_opts_default(&o);
+        o.tol = 1e-4;
+        o.chord = 1e-2;
+        st = cb_ssi_surfaces(r, &sa, &sb, 36, 32, &o, &err);
+        /* The piece inside both: from where the line enters the span (its side v = 10) to
+         * where it leaves (u = 1), found as the Newton projections of the whole surfaces'
+         * curve onto the span's sides. */
+        const double e0[3] = {11.176, -2.28903, -0.0213246}, e1[3] = {11.176, -2.30673, -0.213024};
+        double d0 = HUGE_VAL, d1 = HUGE_VAL;
+        for (slong c = 0; c < r->n_curves; c++) {
+            const cb_ssi_curve *cv = r->curve + c;
+            for (int k = 0; k < 2; k++) {
+                const double *X = cv->pt[k ? cv->n - 1 : 0].xyz;
+                d0 = fmin(d0, hypot(hypot(X[0] - e0[0], X[1] - e0[1]), X[2] - e0[2]));
+                d1 = fmin(d1, hypot(hypot(X[0] - e1[0], X[1] - e1[1]), X[2] - e1[2]));
+            }
+        }
+        printf("planar fold: status %d, %ld curves, ends %.2g and %.2g from the piece's\n", st,
+               (long)r->n_curves, d0, d1);
+        CHECK(st == CB_OK && r->n_failed == 0 && d0 <= 1e-3 && d1 <= 1e-3,
+              "planar fold: status %d, %ld refused, %ld curves, ends %g and %g off", st,
+              (long)r->n_failed, (long)r->n_curves, d0, d1);
+        cb_ssi_result_clear(r);
+    }
+    cb_nurbs_surface_clear(a);
+    cb_nurbs_surface_clear(b);
+    cb_nurbs_surface_clear(rest);
+    cb_topo_body_free(A);
+    cb_topo_body_free(B);
+}
+
 /* A bicubic graph pair: P the graph of a random cubic f over [0, 1]^2, Q the graph of f + h
  * parameterised over [-0.13, 1.07] x [-0.05, 1.11] (so no side of one lies on a side of the
  * other), both turned by one rotation of no special angle. The intersection is {h = 0}. */
@@ -1182,5 +1276,6 @@ int main(int argc, char **argv)
     test_tangent_regions();
     test_hummingbird();
     test_fallback();
+    test_planar_fold();
     return check_report("test_ssi_spline");
 }
