@@ -793,32 +793,19 @@ static void place_sample(sample *S, const sample *prev, const _cb_ssi_trace_curv
     S->gap = refine(&pq, S->X, g);
     S->pq = pq;
     S->in = inside_p(g, &pq, S->gap);
-    if (!S->in && !started && p_spline && p_may_hold(g, X)) {
-        /* A patch's parameterisation continued past its box may cover its surface again (a
-         * rational quarter circle's extends to the whole circle; a polynomial patch folds):
-         * followed from one preimage, the parameters may reach a point of the patch by
-         * another, outside the box. The Dixon inversion finds every preimage and prefers
-         * one inside. Where it certainly has none (p_may_hold), it is not made: a start from
-         * an outside preimage is no better founded than the continuation, and these
-         * inversions of points far from the patch were half the clipping time. */
-        _cb_ssi_pq alt = {{0, 0}, {tc->st[2 * i], tc->st[2 * i + 1]}, tc->fixed[i]};
-        double Xa[3];
-        p_start(alt.uv, g, X);
-        double gap = refine(&alt, Xa, g);
-        if (inside_p(g, &alt, gap)) {
-            S->pq = alt;
-            S->gap = gap;
-            memcpy(S->X, Xa, sizeof Xa);
-            S->in = 1;
-        }
-    }
-    if (!S->in && !started && !g->p_analytic && !g->p_pencil && near_net(g, X)) {
-        /* A planar patch (no pencil): its map continued past the box folds back over the
-         * plane, and the continuation may follow a preimage outside the box of a point the
-         * patch holds (trj5 against its copy: a line through a flat wall and a planar span of
-         * a closed strip, the piece inside both dropped from a certified pair). A start from
-         * the grid over the box finds the inside one. Only for points within the box of the
-         * patch's control points: every point of the patch lies there. */
+    /* A patch's parameterisation continued past its box may cover its surface again (a
+     * rational quarter circle's extends to the whole circle; a polynomial patch folds, a
+     * planar one back over its plane): followed from one preimage, the parameters may reach a
+     * point of the patch by another, outside the box. A fresh start prefers one inside: for a
+     * curved spline the Dixon inversion, which finds every preimage, where it may have one
+     * inside (p_may_hold: a start from an outside preimage is no better founded than the
+     * continuation, and these inversions of points far from the patch were half the clipping
+     * time); for a planar patch (no pencil) the grid over the box, for points within the box
+     * of its control points, which holds the patch (trj5 against its copy: a line through a
+     * flat wall and a planar span of a closed strip, the piece inside both once dropped from
+     * a certified pair). */
+    if (!S->in && !started && !g->p_analytic &&
+        (p_spline ? p_may_hold(g, X) : near_net(g, X))) {
         _cb_ssi_pq alt = {{0, 0}, {tc->st[2 * i], tc->st[2 * i + 1]}, tc->fixed[i]};
         double Xa[3];
         p_start(alt.uv, g, X);
