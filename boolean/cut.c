@@ -654,13 +654,19 @@ cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cu
             split = i + 1 < r->n &&
                     find_cross(cx, r->p + i, r->p + i + 1, &before, &after, &w);
         }
-        if (!split)
-            continue;
-        fail |= _cb_cut_run_push(&cur->run, &before);
-        cur->end_cross = w;
-        cur->end_id = n_split;
-        cur = fail ? NULL : pieces_add(&ps, w, n_split++);
-        fail |= !cur || _cb_cut_run_push(&cur->run, &after);
+        /* A step may cross two seams (one of each face, or both of one face), at points
+         * apart or at one point (a node on both seams): the rest of the step, from the
+         * crossing on, is searched again, so that no piece keeps a jump of a lift. */
+        for (int again = 0; split && !fail; again++) {
+            fail |= _cb_cut_run_push(&cur->run, &before);
+            cur->end_cross = w;
+            cur->end_id = n_split;
+            cur = fail ? NULL : pieces_add(&ps, w, n_split++);
+            fail |= !cur || _cb_cut_run_push(&cur->run, &after);
+            cut_pt from = after;
+            split = !fail && again < 4 && i + 1 < r->n &&
+                    find_cross(cx, &from, r->p + i + 1, &before, &after, &w);
+        }
     }
     if (!fail) {
         cur->end_cross = closed ? rot_cross : -1;

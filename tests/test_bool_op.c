@@ -1198,6 +1198,36 @@ static void test_occt_faces(void)
             cb_topo_body_free(B);
         }
     }
+    {
+        /* The randomized corpus's cyl_steinmetz_2 (bench/corpus, seed 1), turned (analytic
+         * cylinders) and moved (as B-splines): two cylinders of one radius whose axes cross,
+         * both seams through one of the two points where the four intersection curves meet.
+         * A curve leaving that node crosses both seams on its first step; the second seam's
+         * crossing was not looked for after the first, and the curve kept a jump of a whole
+         * period in (u, v) across the face (4 edges unsewn). V(A n B) = 16 R^3 / 3 (R as the
+         * files give it), V(A) and V(B) by mass integration of the operands. */
+        const double R = 0.638432274775, vi = 16 * R * R * R / 3;
+        const char *files[2][2] = {{"steinmetz_seams_rot_a.step", "steinmetz_seams_rot_b.step"},
+                                   {"steinmetz_seams_nurbs_a.step",
+                                    "steinmetz_seams_nurbs_b.step"}};
+        for (int k = 0; k < 2; k++) {
+            cb_topo_body *A = occt_file(files[k][0]), *B = occt_file(files[k][1]);
+            cb_mass_props ma, mb;
+            cb_error e2;
+            if (!A || !B || cb_mass_body(&ma, A, 1e-10, NULL, &e2) ||
+                cb_mass_body(&mb, B, 1e-10, NULL, &e2)) {
+                CHECK(0, "%s: operands", files[k][0]);
+            } else {
+                const double want[3] = {vi, ma.volume + mb.volume - vi, ma.volume - vi};
+                for (int o2 = 0; o2 < 3; o2++) {
+                    touching_points = o2 == 2 ? 2 : 0; /* A - B: two solids meeting at the nodes */
+                    check_op(files[k][0], ops[o2], A, B, want[o2], 1e-6, NULL);
+                }
+            }
+            cb_topo_body_free(A);
+            cb_topo_body_free(B);
+        }
+    }
 }
 
 /* Area of the disc of radius rho on the side x >= d of a chord at distance d from its centre. */
