@@ -1020,6 +1020,40 @@ cb_status cb_bool_cut_curve(cb_topo_curve *out, const cb_bool_cut *c, int side, 
     return st;
 }
 
+/* How far a cut end at x may lie from the same crossing computed on the other side of a face
+ * boundary, beyond the weld distance: the largest tolerance of a boundary edge of either of
+ * its faces that passes within reach (plus that tolerance) of x, where the tolerance is the
+ * edge's own (the reader raises it where the file's faces stray from their shared edge) or
+ * the deviation of the face's pcurve from it. The two faces of such an edge meet it only
+ * within that tolerance, so the SSI's ends of one crossing, each clipped to its own face,
+ * differ by up to twice as much and more where the other surface crosses the edge obliquely.
+ * 0 away from every edge; negligible beside the weld distance where the edges' tolerances
+ * are the model's. */
+static double end_slack(const cb_face *const f[2], const double x[3], double reach)
+{
+    double s = 0;
+    for (int k = 0; k < 2; k++)
+        for (int e = 0; e < f[k]->n_edges; e++) {
+            const cb_face_edge *E = f[k]->edges + e;
+            double t = fmax(f[k]->b->edges[E->edge].tol, E->off);
+            if (!E->boundary || t <= s)
+                continue;
+            double lim = reach + t + E->gap;
+            int out_box = 0;
+            for (int q = 0; q < 3; q++)
+                out_box |= x[q] < E->box.lo[q] - lim || x[q] > E->box.hi[q] + lim;
+            for (int i = 0; i <= E->n && !out_box; i++) {
+                double g[3] = {E->samples[i][0] - x[0], E->samples[i][1] - x[1],
+                               E->samples[i][2] - x[2]};
+                if (norm3(g) <= lim) {
+                    s = t;
+                    break;
+                }
+            }
+        }
+    return s;
+}
+
 /* Curves that meet at a node (where an intersection curve passes from one face to the next)
  * reach it from two face pairs computed apart, so their ends differ by up to the polyline's
  * chord error. Ends within weld of an earlier end (in cut order) are moved onto it, their
@@ -1029,10 +1063,22 @@ cb_status cb_bool_cut_curve(cb_topo_curve *out, const cb_bool_cut *c, int side, 
  * (u, v) on that face: the node is where the curve leaves that face. Two vertices closer than
  * weld (an edge of one operand passing that close to an edge or seam of the other) weld into
  * one, so in that face's split the node must lie on its boundary too, or the cut ending there
- * would end short of it and the region it closes stay open. */
+ * would end short of it and the region it closes stay open. An end with no earlier end within
+ * weld is moved onto the nearest earlier end within weld plus both ends' end_slack (an edge of
+ * raised tolerance nearby), keeping its (u, v) on a face the other cut does not share: the
+ * node is that face's boundary point, within the edge's tolerance of the other end. */
 static void snap_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_solid *B,
                       double weld, double near)
 {
+    /* Per cut end, the slack of end_slack (0 for closed cuts). */
+    double *slack = calloc((size_t)(2 * out->n + 1), sizeof(double));
+    for (int k = 0; k < out->n && slack; k++) {
+        const cb_bool_cut *c = out->cut + k;
+        const cb_face *f[2] = {cb_bool_solid_face(A, c->face[0]),
+                               cb_bool_solid_face(B, c->face[1])};
+        for (int e = 0; e < 2 && !c->closed; e++)
+            slack[2 * k + e] = end_slack(f, c->xyz + 3 * (e ? c->n - 1 : 0), weld);
+    }
     for (int k = 0; k < out->n; k++) {
         cb_bool_cut *c = out->cut + k;
         if (c->closed)
@@ -1062,6 +1108,35 @@ static void snap_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_s
                     }
                 }
             }
+            /* None within weld, before or after it in cut order (an end already on a node
+             * with another stays there): near edges of raised tolerance, the nearest earlier
+             * end within weld and both ends' slack. */
+            double best = HUGE_VAL;
+            int bj = -1, bh = 0, met = 0;
+            for (int j = 0; j < out->n && !to && !met && slack && slack[2 * k + e] > 0; j++) {
+                const cb_bool_cut *dd = out->cut + j;
+                for (int h = 0; h < 2 && j != k && !dd->closed && !met; h++) {
+                    const double *y = dd->xyz + 3 * (h ? dd->n - 1 : 0);
+                    const double *other = c->xyz + 3 * (e ? 0 : c->n - 1);
+                    double g[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]}, dist = norm3(g);
+                    if (!memcmp(y, other, 3 * sizeof *y))
+                        continue;
+                    met = dist <= weld;
+                    if (j < k && dist <= weld + slack[2 * k + e] + slack[2 * j + h] &&
+                        dist < best) {
+                        best = dist;
+                        bj = j;
+                        bh = h;
+                    }
+                }
+            }
+            int wide = 0;
+            if (!to && !met && bj >= 0) {
+                d = out->cut + bj;
+                to = d->xyz + 3 * (bh ? d->n - 1 : 0);
+                dj = bh ? d->n - 1 : 0;
+                wide = 1;
+            }
             if (!to)
                 continue;
             double old[2][2];
@@ -1088,6 +1163,12 @@ static void snap_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_s
                         uv[q] = lift_near(uv[q], guess[q], P);
                     }
                 }
+                /* Moved further than the weld distance (slack of an edge of raised
+                 * tolerance): an end on its face's split boundary stays there in (u, v), the
+                 * node being the boundary's point within that tolerance; inverted, it could
+                 * land inside the face and leave the cut dangling in its arrangement. */
+                if (wide && d->face[s] != c->face[s])
+                    memcpy(uv, old[s], sizeof old[s]);
                 /* (at a pole the node's (u, v) is the line the cuts arrive on, each its own) */
                 if (!on[s] || pole || d->face[s] != c->face[s])
                     continue;
@@ -1108,6 +1189,7 @@ static void snap_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_s
         if (moved)
             tangents(c, f);
     }
+    free(slack);
 }
 
 /* Whether segment sg of face f lies on an edge that can hold boundary points (not a seam of
@@ -1123,22 +1205,31 @@ static int boundary_seg(const cb_face *f, const cb_face_seg *sg)
     return 0;
 }
 
-/* Distance from uv to pcurve pc at parameter s moved by lift, in the metric sc. */
-static double pcurve_dist(const cb_topo_curve *pc, double s, const double lift[2],
-                          const double uv[2], const double sc[2])
+/* Distance in space from x to face f's surface at pcurve pc's point at parameter s moved by
+ * lift. */
+static double pcurve_dist(const cb_face *f, const cb_topo_curve *pc, double s,
+                          const double lift[2], const double x[3])
 {
-    double y[3];
+    double y[3], p[3];
     cb_topo_pcurve_eval(y, pc, s);
-    return hypot((y[0] + lift[0] - uv[0]) * sc[0], (y[1] + lift[1] - uv[1]) * sc[1]);
+    cb_topo_inverter_eval(p, &f->inv, y[0] + lift[0], y[1] + lift[1]);
+    double g[3] = {p[0] - x[0], p[1] - x[1], p[2] - x[2]};
+    return norm3(g);
 }
 
-/* The point of face f's boundary nearest to uv, in the metric of the surface's derivatives at
- * uv, into near_uv (lifted next to uv): on the pcurve of the loop polygon's segment nearest to
- * uv (golden-section search over the segment's pcurve parameters and one segment's length on
+/* The point of face f's boundary nearest to the point x in space, whose (u, v) on f is uv,
+ * into near_uv (lifted next to uv): on the pcurve of the loop polygon's segment nearest to uv
+ * in the metric of the surface's derivatives at uv, the point of the surface nearest to x
+ * (golden-section search over the segment's pcurve parameters and one segment's length on
  * each side, as the polygon may stray from the pcurve by its deviation), since near a cut the
  * arrangement's loop polylines follow the pcurves (op.c boundary_srcs); the polygon's point
- * where the coedge has no pcurve. 0 when the face has no boundary segment. */
-static int nearest_boundary_uv(double near_uv[2], const cb_face *f, const double uv[2])
+ * where the coedge has no pcurve. Nearest in space, not in (u, v): where the face strays from
+ * its edge (an edge of raised tolerance), x, off the surface, inverts to a (u, v) whose
+ * nearest boundary point in (u, v) lies along the edge from the edge's point nearest to x,
+ * where the face across the edge puts the same crossing. 0 when the face has no boundary
+ * segment. */
+static int nearest_boundary_uv(double near_uv[2], const cb_face *f, const double uv[2],
+                               const double x[3])
 {
     double d[6][3];
     cb_topo_inverter_eval_derivs(d, &f->inv, uv[0], uv[1]);
@@ -1189,21 +1280,21 @@ static int nearest_boundary_uv(double near_uv[2], const cb_face *f, const double
     hi = fmin(hi, r1);
     const double gr = 0.6180339887498949;
     double m1 = hi - gr * (hi - lo), m2 = lo + gr * (hi - lo), f1, f2, y[3];
-    f1 = pcurve_dist(pc, m1, lift, uv, sc);
-    f2 = pcurve_dist(pc, m2, lift, uv, sc);
+    f1 = pcurve_dist(f, pc, m1, lift, x);
+    f2 = pcurve_dist(f, pc, m2, lift, x);
     for (int it = 0; it < 60; it++) {
         if (f1 <= f2) {
             hi = m2;
             m2 = m1;
             f2 = f1;
             m1 = hi - gr * (hi - lo);
-            f1 = pcurve_dist(pc, m1, lift, uv, sc);
+            f1 = pcurve_dist(f, pc, m1, lift, x);
         } else {
             lo = m1;
             m1 = m2;
             f1 = f2;
             m2 = lo + gr * (hi - lo);
-            f2 = pcurve_dist(pc, m2, lift, uv, sc);
+            f2 = pcurve_dist(f, pc, m2, lift, x);
         }
     }
     double s_best = f1 <= f2 ? m1 : m2;
@@ -1220,8 +1311,11 @@ static int nearest_boundary_uv(double near_uv[2], const cb_face *f, const double
  * distance that the intersection did not give (an edge of the other solid passing that close
  * to an edge of this face: their faces' curves meet near both edges); left as it is, the
  * face's arrangement would keep the cut dangling and not split the face along it. Its (u, v)
- * on that face moves to the nearest point of the boundary's pcurves (its point in space and
- * its (u, v) on the other face stay): the pieces' ends weld there. Ends within half the snap
+ * on that face moves to the boundary's pcurve point nearest to it in space (its point in
+ * space and its (u, v) on the other face stay): the pieces' ends weld there. Near an edge of
+ * raised tolerance the reach is the weld distance plus twice the end's slack (end_slack):
+ * the end, welded to the same crossing on the face across the edge, lies within the edge's
+ * tolerance of the edge, and this face's boundary within it again. Ends within half the snap
  * distance of the boundary stay as they are: the arrangement joins them to it. */
 static void attach_loose_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_solid *B,
                               double weld, double near)
@@ -1250,13 +1344,13 @@ static void attach_loose_ends(cb_bool_cuts *out, const cb_bool_solid *A, const c
                 }
                 double *uv = c->uv[s] + 2 * i, to[2] = {0, 0}, y[3];
                 if (met || cb_topo_inverter_collapsed(&f[s]->inv, uv[0], uv[1]) ||
-                    on_window_end(f[s], uv) || !nearest_boundary_uv(to, f[s], uv))
+                    on_window_end(f[s], uv) || !nearest_boundary_uv(to, f[s], uv, x))
                     continue;
                 /* Within half the snap distance the arrangement joins the end to the loop
                  * as it is. */
                 cb_topo_inverter_eval(y, &f[s]->inv, to[0], to[1]);
                 double g[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
-                if (norm3(g) <= 0.5 * near || norm3(g) > weld)
+                if (norm3(g) <= 0.5 * near || norm3(g) > weld + 2 * end_slack(f, x, weld))
                     continue;
                 uv[0] = to[0];
                 uv[1] = to[1];
