@@ -164,9 +164,12 @@ static int finish(report *rep, cb_topo_body *res, const char *out, int quiet, cb
                    : r->self_intersections ? "yes"
                                            : "none",
                    r->mesh_volume);
-        if (!r->valid || !r->mesh_ok || r->touching)
+        if (r->touching && r->valid && r->mesh_ok)
             printf("%s\n", r->message);
     }
+    /* A result refused by its checks is an error: said on stderr, with --quiet too. */
+    if (!r->valid || !r->mesh_ok)
+        fprintf(stderr, "colibri: %s\n", r->message);
     return code;
 }
 
