@@ -726,6 +726,15 @@ static cb_status face_integrate(face_result *res, const cb_topo_body *b, int f, 
     for (int li = 0; li < fa->count; li++)
         net += wrap[2 * li + o];
     w.ref = 0.5 * (lo[w.a] + hi[w.a]);
+    /* On a surface with a pole at both ends of v (a sphere), a face closed at one of them
+     * (pole_v) is integrated as F dv, each loop around u closed through that pole: from its
+     * end along v to the pole, and from the pole along v to its start. As -G du, a loop that
+     * reaches the other pole (a hemisphere bounded by a great circle through both poles)
+     * would take the whole face from its run along that pole line, where G is the integral
+     * from pole to pole, but a pcurve passes over a pole as a jump in u that the integration
+     * along the edge does not follow; F dv gets nothing from lines along a pole. */
+    int pole_close = 0;
+    double pole_v = 0;
     if (net) {
         /* The face is closed at a pole: on the left of the loops' net direction in (u, v)
          * for same_sense 1 (+v of a loop along +u, -u of a loop along +v), else the right. */
@@ -737,6 +746,14 @@ static cb_status face_integrate(face_result *res, const cb_topo_body *b, int f, 
                               "closes the face",
                               f);
             goto done;
+        }
+        double far;
+        if (w.a == 1 && find_pole(&far, &w, s, -side, lo[1], hi[1], gap_tol)) {
+            pole_close = 1;
+            pole_v = w.ref;
+            w.a = 0;
+            w.sign = 1;
+            w.ref = 0.5 * (lo[0] + hi[0]);
         }
     }
     w.period = inv.period[w.a];
@@ -786,6 +803,20 @@ static cb_status face_integrate(face_result *res, const cb_topo_body *b, int f, 
             if (ad.cancelled || cb_context_cancelled(ctx)) {
                 st = cb_error_set(err, CB_ERR_CANCELLED, "mass: cancelled");
                 goto done;
+            }
+            if (pole_close && cc + 1 == lp->count && wrap[2 * li] != 0) {
+                /* closed through the pole (above): the two sides along v */
+                const double *q = ci[first].start;
+                double sides[2][4] = {{e->end[0], e->end[1], e->end[0], pole_v},
+                                      {q[0], pole_v, q[0], q[1]}};
+                for (int i = 0; i < 2; i++) {
+                    double x01[2] = {0, 1};
+                    w.seg = sides[i];
+                    adaptive as = {segment_fn,    &w, MAX_DEPTH_OUTER, ctx, 0,
+                                   OUTER_NOISE * rel, MAX_BISECTIONS};
+                    integrate(total, &as, x01, 2, rel, w.floor_out);
+                }
+                continue;
             }
             /* The joint to the next coedge (the first one shifted by the loop's wrap). */
             double seg[4];

@@ -13,7 +13,12 @@
  * or, on a face whose loops wind around the u period of its surface (a cylinder bounded by two
  * circles), the loop integral of -G du with G(u, v) = integral from v_ref to v of f(u, t) dt,
  * which is periodic in u, so the loops need no closing; an odd number of such loops closes at a
- * pole (a spherical cap), where v_ref is put so that G vanishes on the pole line. The
+ * pole (a spherical cap), where v_ref is put so that G vanishes on the pole line. On a surface
+ * with a pole at both ends in v (a sphere) such a face is integrated as F dv instead, each
+ * loop around u closed through the closing pole along v (from its end to the pole, and from
+ * the pole to its start): a pcurve passes over the other pole as a jump in u along the pole
+ * line, to which F dv gives nothing but -G du the integral from pole to pole (a hemisphere
+ * bounded by a great circle through both poles: trj5_s1-ac-214.stp). The
  * directions swap for loops around the v period. Faces whose loops wind around both periods (a
  * torus in one face) are not handled (CB_ERR_UNSUPPORTED). On a surface closed in u with a pole
  * at both ends in v (a sphere), a loop that does not wind bounds two regions and its sense
