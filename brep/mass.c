@@ -1089,3 +1089,11 @@ cb_status cb_mass_body(cb_mass_props *m, const cb_topo_body *b, double rel_tol, 
     finish_props(m, q, c);
     return CB_OK;
 }
+
+double cb_mass_closure_bound(const cb_topo_body *b, double area, int edge_tols)
+{
+    double s = 0;
+    for (int e = 0; e < b->n_edges; e++)
+        s += cb_topo_edge_length(b, e) * (edge_tols ? fmax(b->tol, b->edges[e].tol) : b->tol);
+    return 2 * s + 1e-9 * fabs(area);
+}

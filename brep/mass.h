@@ -95,4 +95,13 @@ cb_status cb_mass_shell(cb_mass_props *m, const cb_topo_body *b, int k, double r
 cb_status cb_mass_body(cb_mass_props *m, const cb_topo_body *b, double rel_tol, cb_context *ctx,
                        cb_error *err);
 
+/* The largest vector area (cb_mass_props.vector_area) body b's closed shells may leave: each
+ * edge's two faces meet within the edge's tolerance of it, so twice the tolerance times the
+ * edges' length, plus 1e-9 of the area for rounding. The tolerance is b->tol, or each edge's
+ * own where larger when edge_tols is set (a file's edges whose tolerance the reader raised;
+ * a Boolean result's edges carry the weld distance, far above its faces' gaps, so it is
+ * checked against b->tol). More says a face was integrated over the wrong region of its
+ * surface, and the volume, which then depends on the reference point, is not to be trusted. */
+double cb_mass_closure_bound(const cb_topo_body *b, double area, int edge_tols);
+
 #endif

@@ -23,7 +23,9 @@ static const char INFO_USAGE[] =
     "               topology validation (closed shells, closed loops, edges on their faces),\n"
     "               and the volume and area (exact integrals over the trimmed faces,\n"
     "               brep/mass.h, to about 1e-9 relative), or why they cannot be integrated\n"
-    "               (an open shell, loops that do not close)\n"
+    "               (an open shell, loops that do not close) or trusted (the faces'\n"
+    "               integrated normals do not close up within the edges' tolerances: a\n"
+    "               face integrated over the wrong region; the numbers are in the message)\n"
     "  .bpt         Bezier patch text (e.g. the Newell teapot): patches, degrees, points\n"
     "\n"
     "options:\n"
@@ -124,6 +126,15 @@ static void info_mass_compute(info_mass *m, const cb_topo_body *b)
                        ? cb_mass_body(&p, b, INFO_MASS_REL_TOL, NULL, &err)
                        : cb_error_set(&err, CB_ERR_INVALID, "mass: the model has no shell");
     m->skipped = 0;
+    /* Faces that do not close up (cb_mass_closure_bound, at the edges' own tolerances): a
+     * face integrated over the wrong region, the volume not to be trusted. */
+    double va = cb_vec3_norm(p.vector_area), bound = cb_mass_closure_bound(b, p.area, 1);
+    if (st == CB_OK && !(va <= bound))
+        st = cb_error_set(&err, CB_ERR_NUMERIC,
+                          "mass: the faces' integrated normals do not close up (vector area "
+                          "%.3g, the edges' tolerances allow %.3g): a face integrated over the "
+                          "wrong region, the volume %.10g and area %.10g not to be trusted",
+                          va, bound, p.volume, p.area);
     m->ok = st == CB_OK && isfinite(p.volume) && isfinite(p.area);
     m->volume = m->ok ? p.volume : 0;
     m->area = m->ok ? p.area : 0;

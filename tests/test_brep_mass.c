@@ -447,6 +447,58 @@ static void check_errors(void)
     cb_topo_body_free(b);
 }
 
+/* cb_mass_closure_bound: every primitive in a random pose closes up within it (at the body's
+ * tolerance and at the edges'). A box with one face's plane tilted by 1e-3 about the face's
+ * centre and that face's edges given a tolerance of 1e-2 (as the STEP reader raises it where
+ * a file's faces stray from their edges): the face is integrated between the foot points of
+ * its edges on the tilted plane and its normal no longer cancels the others' (vector area
+ * about 1e-3 of the face's area): beyond the bound at the body's tolerance, within it at the
+ * edges'. */
+static void check_closure(void)
+{
+    check_rng rng = {91};
+    for (int shape = 0; shape < N_SHAPES; shape++) {
+        cb_frame f;
+        random_frame(&f, &rng, 1);
+        cb_topo_body *b = NULL;
+        double ref[5];
+        cb_error err;
+        cb_mass_props m;
+        if (build(&b, ref, shape, &f, shape % 2, &err) ||
+            cb_mass_body(&m, b, 0, NULL, &err)) {
+            CHECK(0, "closure %s: %s", shape_name[shape], err.msg);
+            cb_topo_body_free(b);
+            continue;
+        }
+        double va = cb_vec3_norm(m.vector_area);
+        CHECK(va <= cb_mass_closure_bound(b, m.area, 0) &&
+                  va <= cb_mass_closure_bound(b, m.area, 1),
+              "closure %s: vector area %.3g, bound %.3g", shape_name[shape], va,
+              cb_mass_closure_bound(b, m.area, 0));
+        if (shape == BOX) {
+            cb_frame *fr = &b->surfaces[b->faces[0].surface].analytic.frame;
+            double c = cos(1e-3), sn = sin(1e-3), y[3], z[3];
+            for (int i = 0; i < 3; i++) {
+                y[i] = c * fr->y[i] + sn * fr->z[i];
+                z[i] = c * fr->z[i] - sn * fr->y[i];
+            }
+            memcpy(fr->y, y, sizeof y);
+            memcpy(fr->z, z, sizeof z);
+            const cb_topo_loop *lp = &b->loops[b->faces[0].first];
+            for (int k = lp->first; k < lp->first + lp->count; k++)
+                b->edges[b->coedges[k].edge].tol = 1e-2;
+            cb_status st = cb_mass_body(&m, b, 0, NULL, &err);
+            va = cb_vec3_norm(m.vector_area);
+            CHECK(st == CB_OK && va > cb_mass_closure_bound(b, m.area, 0) &&
+                      va <= cb_mass_closure_bound(b, m.area, 1),
+                  "closure: a box with a face tilted: %s, vector area %.3g, bounds %.3g %.3g",
+                  st ? err.msg : "", va, cb_mass_closure_bound(b, m.area, 0),
+                  cb_mass_closure_bound(b, m.area, 1));
+        }
+        cb_topo_body_free(b);
+    }
+}
+
 int main(void)
 {
     check_ellipsoid_area_formula();
@@ -469,5 +521,6 @@ int main(void)
     check_threads();
     check_cancel();
     check_errors();
+    check_closure();
     return check_report("test_brep_mass");
 }
