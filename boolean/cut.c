@@ -1330,6 +1330,7 @@ static void attach_loose_ends(cb_bool_cuts *out, const cb_bool_solid *A, const c
         for (int e = 0; e < 2; e++) {
             int i = e ? c->n - 1 : 0;
             const double *x = c->xyz + 3 * i;
+            double slack = -1; /* end_slack of x, found when first needed */
             for (int s = 0; s < 2; s++) {
                 int met = 0;
                 for (int j = 0; j < out->n && !met; j++) {
@@ -1349,8 +1350,12 @@ static void attach_loose_ends(cb_bool_cuts *out, const cb_bool_solid *A, const c
                 /* Within half the snap distance the arrangement joins the end to the loop
                  * as it is. */
                 cb_topo_inverter_eval(y, &f[s]->inv, to[0], to[1]);
-                double g[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
-                if (norm3(g) <= 0.5 * near || norm3(g) > weld + 2 * end_slack(f, x, weld))
+                double g[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]}, dist = norm3(g);
+                if (dist <= 0.5 * near)
+                    continue;
+                if (slack < 0)
+                    slack = end_slack(f, x, weld);
+                if (dist > weld + 2 * slack)
                     continue;
                 uv[0] = to[0];
                 uv[1] = to[1];
