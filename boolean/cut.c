@@ -841,6 +841,63 @@ static void difference(double *d, double *len, const cb_bool_cut *k, const doubl
     *len = norm3(e);
 }
 
+/* The tangent direction at point i of cut k from its points alone: the derivative there of
+ * the parabola through i and its two neighbours (the two after it, or before it, at an open
+ * end), by chord length; (0, 0, 0) where two of them coincide or k has fewer than three
+ * points. Second order, where a chord or a central difference is first order with unequal
+ * steps (a step split at a seam is next to a whole one): a Hermite arc on a circle of radius
+ * R with steps of L leaves the curve by up to L^2 / 8R on a chord's direction. */
+#define PARABOLA_TURN 0.25 /* radians */
+static void parabola_tangent(double d[3], const cb_bool_cut *k, int i)
+{
+    memset(d, 0, 3 * sizeof *d);
+    int n = k->n - (k->closed ? 1 : 0); /* distinct points */
+    if (n < 3)
+        return;
+    int id[3]; /* the three points in curve order, and which of them is i */
+    int at;
+    if (k->closed || (i > 0 && i + 1 < k->n)) {
+        id[0] = i > 0 ? i - 1 : n - 1;
+        id[1] = i < n ? i : 0;
+        id[2] = id[1] + 1 < n ? id[1] + 1 : 0;
+        at = 1;
+    } else if (i == 0) {
+        id[0] = 0, id[1] = 1, id[2] = 2;
+        at = 0;
+    } else {
+        id[0] = k->n - 3, id[1] = k->n - 2, id[2] = k->n - 1;
+        at = 2;
+    }
+    const double *P[3];
+    for (int j = 0; j < 3; j++)
+        P[j] = k->xyz + 3 * id[j];
+    double t[3] = {0, 0, 0}, e[3];
+    for (int j = 1; j < 3; j++) {
+        for (int q = 0; q < 3; q++)
+            e[q] = P[j][q] - P[j - 1][q];
+        t[j] = t[j - 1] + norm3(e);
+    }
+    if (!(t[1] > 0 && t[2] > t[1]))
+        return;
+    /* Not across a corner (the parabola would round it off and turn the straight
+     * segments' tangents): the two steps turn by less than PARABOLA_TURN. */
+    double f[3];
+    for (int q = 0; q < 3; q++) {
+        e[q] = P[1][q] - P[0][q];
+        f[q] = P[2][q] - P[1][q];
+    }
+    if (e[0] * f[0] + e[1] * f[1] + e[2] * f[2] < cos(PARABOLA_TURN) * (t[1] - t[0]) * (t[2] - t[1]))
+        return;
+    /* The derivatives of the Lagrange basis at t[at]. */
+    double w[3], x = t[at];
+    for (int j = 0; j < 3; j++) {
+        int a = (j + 1) % 3, b = (j + 2) % 3;
+        w[j] = (2 * x - t[a] - t[b]) / ((t[j] - t[a]) * (t[j] - t[b]));
+    }
+    for (int q = 0; q < 3; q++)
+        d[q] = w[0] * P[0][q] + w[1] * P[1][q] + w[2] * P[2][q];
+}
+
 /* S_u x S_v of the inverter's surface at (u, v), with S_u and S_v. Where one of the partials
  * collapses (a pole of a sphere or an apex written as a B-spline: a whole row of its net is one
  * point) the cross product vanishes or is rounding noise; the normal there is its limit, taken
@@ -891,8 +948,23 @@ static void tangents(cb_bool_cut *k, const cb_face *const f[2])
             for (int j = 0; j < 3; j++)
                 dir[j] = sgn * t[j] / tl;
         } else {
+            /* The surfaces touch here (a tangential cut): no tangent from the normals. The
+             * parabola's, in the common tangent plane (the points' curving along the normal
+             * is most of what the chord misses on a curved surface), along the chord. */
+            double q[3], nl = norm3(n[0]);
+            parabola_tangent(q, k, i);
+            if (nl > 0) {
+                double qn = (q[0] * n[0][0] + q[1] * n[0][1] + q[2] * n[0][2]) / (nl * nl);
+                for (int j = 0; j < 3; j++)
+                    q[j] -= qn * n[0][j];
+            }
+            double ql = norm3(q);
+            if (!(ql > 0) || q[0] * chord[0] + q[1] * chord[1] + q[2] * chord[2] <= 0) {
+                memcpy(q, chord, sizeof q);
+                ql = cl;
+            }
             for (int j = 0; j < 3; j++)
-                dir[j] = cl > 0 ? chord[j] / cl : 0;
+                dir[j] = ql > 0 ? q[j] / ql : 0;
         }
         for (int s = 0; s < 2; s++) {
             /* J^T J x = J^T dir, J = [S_u S_v] */

@@ -86,7 +86,7 @@ typedef struct {
 typedef struct {
     const cb_topo_curve *c;
     const cb_tess_opts *o;
-    side_curve side[4];
+    side_curve side[8]; /* of the edge and its twins (parallel_edges) */
     int n_sides;
     const cb_tess_zone *zones; /* of the faces using the edge */
     int n_zones;
@@ -196,30 +196,67 @@ int cb_tess_cmp_int3(const void *a, const void *b)
     return 0;
 }
 
+/* Whether c and d are the same curve, number for number (two edges made from one curve: the
+ * copies a Boolean gives the two pairs of faces that touch along one cut). */
+static int same_curve(const cb_topo_curve *c, const cb_topo_curve *d)
+{
+    if (c->kind != d->kind)
+        return 0;
+    if (c->kind != CB_CURVE_NURBS)
+        return memcmp(&c->frame, &d->frame, sizeof c->frame) == 0 && c->r1 == d->r1 &&
+               c->r2 == d->r2;
+    const cb_nurbs_curve_struct *a = c->nurbs, *b = d->nurbs;
+    return a->deg == b->deg && a->n == b->n &&
+           memcmp(a->knots, b->knots, (size_t)(a->n + a->deg + 1) * sizeof(double)) == 0 &&
+           memcmp(a->cw, b->cw, (size_t)a->n * 4 * sizeof(double)) == 0;
+}
+
 /* parallel[e] = 1 when another edge joins the same two vertices as edge e (two solids touching
  * along a line, their union's shell touching itself there): sampled with their ends only, the
- * two would make one mesh edge of four triangles. NULL when out of memory. */
-static char *parallel_edges(const cb_topo_body *b)
+ * two would make one mesh edge of four triangles. twin[e]: the first edge joining them on the
+ * same curve over the same range (e itself when none): where two faces of a body touch
+ * along a curve that each pair of faces bounds by its own edge, both edges are sampled
+ * alike, so that the meshes of the two pairs meet along the same chords instead of crossing
+ * where the chords of one dip by their sagitta beside the other's samples. 0 when out of
+ * memory. */
+static int parallel_edges(char **parallel, int **twin, const cb_topo_body *b)
 {
     int *pairs = malloc((size_t)(b->n_edges + 1) * 3 * sizeof(int));
     char *par = calloc((size_t)b->n_edges + 1, 1);
-    if (!pairs || !par) {
+    int *tw = malloc((size_t)(b->n_edges + 1) * sizeof(int));
+    if (!pairs || !par || !tw) {
         free(pairs);
         free(par);
-        return NULL;
+        free(tw);
+        return 0;
     }
     for (int e = 0; e < b->n_edges; e++) {
         int a = b->edges[e].v[0], c = b->edges[e].v[1];
         pairs[3 * e] = a < c ? a : c;
         pairs[3 * e + 1] = a < c ? c : a;
         pairs[3 * e + 2] = e;
+        tw[e] = e;
     }
+    /* Sorted by vertex pair, then edge index: a run's first twin is its earliest. */
     qsort(pairs, (size_t)b->n_edges, 3 * sizeof(int), cb_tess_cmp_int3);
     for (int k = 1; k < b->n_edges; k++)
         if (pairs[3 * k] == pairs[3 * k - 3] && pairs[3 * k + 1] == pairs[3 * k - 2])
             par[pairs[3 * k + 2]] = par[pairs[3 * k - 1]] = 1;
+    for (int k = 0; k < b->n_edges; k++) {
+        const cb_topo_edge *E = &b->edges[pairs[3 * k + 2]];
+        for (int i = k - 1; i >= 0 && pairs[3 * i] == pairs[3 * k] &&
+                            pairs[3 * i + 1] == pairs[3 * k + 1];
+             i--) {
+            const cb_topo_edge *F = &b->edges[pairs[3 * i + 2]];
+            if (F->t0 == E->t0 && F->t1 == E->t1 &&
+                same_curve(&b->curves[F->curve], &b->curves[E->curve]))
+                tw[pairs[3 * k + 2]] = tw[pairs[3 * i + 2]];
+        }
+    }
     free(pairs);
-    return par;
+    *parallel = par;
+    *twin = tw;
+    return 1;
 }
 
 cb_status cb_tess_edges_sample(cb_tess_edges *es, const cb_topo_body *b, const cb_tess_opts *o,
@@ -238,6 +275,7 @@ cb_status cb_tess_edges_sample_zoned(cb_tess_edges *es, const cb_topo_body *b,
     tlist all = {0};
     cb_topo_inverter *inv = NULL;
     char *parallel = NULL;
+    int *twin = NULL;
     int n_inv = 0;
     cb_status st;
     cb_tess_zone *mine = NULL; /* the zones of the edge being sampled */
@@ -249,8 +287,7 @@ cb_status cb_tess_edges_sample_zoned(cb_tess_edges *es, const cb_topo_body *b,
         memcpy(es->xyz + 3 * v, b->vertices[v].p, sizeof(double[3]));
     es->n_points = b->n_vertices;
     int cap_ids = 0;
-    parallel = parallel_edges(b);
-    if (!parallel)
+    if (!parallel_edges(&parallel, &twin, b))
         goto nomem;
     inv = calloc((size_t)b->n_faces + 1, sizeof(cb_topo_inverter));
     mine = malloc(((size_t)n_zones + 1) * sizeof *mine);
@@ -272,30 +309,42 @@ cb_status cb_tess_edges_sample_zoned(cb_tess_edges *es, const cb_topo_body *b,
         double tol = fmax(E->tol, b->tol);
         if (!tlist_push(&all, E->t0))
             goto nomem;
-        if (cb_topo_edge_length(b, e) <= tol) {
+        if (twin[e] != e) {
+            /* Its twin's parameters (an earlier edge, sampled for both). */
+            for (int k = es->start[twin[e]] + 1; k < es->start[twin[e] + 1]; k++)
+                if (!tlist_push(&all, all.t[k]))
+                    goto nomem;
+        } else if (cb_topo_edge_length(b, e) <= tol) {
             if (!tlist_push(&all, E->t1))
                 goto nomem;
         } else {
+            /* The zones and coedges of e and of its twins (later edges, all parallel). */
             edge_job j = {c, o, {{0}}, 0, mine, 0};
-            for (int z = 0; z < n_zones; z++)
-                for (int k = b->edge_start[e]; k < b->edge_start[e + 1]; k++)
-                    if (b->loops[b->coedges[b->edge_coedges[k]].loop].face == zones[z].face) {
-                        mine[j.n_zones++] = zones[z];
-                        break;
-                    }
-            for (int k = b->edge_start[e]; k < b->edge_start[e + 1] && j.n_sides < 4; k++) {
-                int co = b->edge_coedges[k];
-                const cb_topo_coedge *C = &b->coedges[co];
-                if (C->pcurve < 0)
-                    continue;
-                side_curve *sc = &j.side[j.n_sides++];
-                int fwd = (C->sense != 0) == (E->same_sense != 0);
-                sc->pc = &b->pcurves[C->pcurve];
-                sc->inv = &inv[b->loops[C->loop].face];
-                sc->t0 = fwd ? E->t0 : E->t1;
-                sc->t1 = fwd ? E->t1 : E->t0;
-                cb_topo_coedge_pcurve_range(&sc->s0, &sc->s1, b, co, sc->inv, tol);
+            int last = parallel[e] ? b->n_edges : e + 1;
+            for (int z = 0; z < n_zones; z++) {
+                int in = 0;
+                for (int f = e; f < last && !in; f++)
+                    for (int k = b->edge_start[f];
+                         (f == e || twin[f] == e) && k < b->edge_start[f + 1] && !in; k++)
+                        in = b->loops[b->coedges[b->edge_coedges[k]].loop].face == zones[z].face;
+                if (in)
+                    mine[j.n_zones++] = zones[z];
             }
+            for (int f = e; f < last; f++)
+                for (int k = b->edge_start[f];
+                     (f == e || twin[f] == e) && k < b->edge_start[f + 1] && j.n_sides < 8; k++) {
+                    int co = b->edge_coedges[k];
+                    const cb_topo_coedge *C = &b->coedges[co];
+                    if (C->pcurve < 0)
+                        continue;
+                    side_curve *sc = &j.side[j.n_sides++];
+                    int fwd = (C->sense != 0) == (b->edges[f].same_sense != 0);
+                    sc->pc = &b->pcurves[C->pcurve];
+                    sc->inv = &inv[b->loops[C->loop].face];
+                    sc->t0 = fwd ? E->t0 : E->t1;
+                    sc->t1 = fwd ? E->t1 : E->t0;
+                    cb_topo_coedge_pcurve_range(&sc->s0, &sc->s1, b, co, sc->inv, tol);
+                }
             int pieces = E->v[0] == E->v[1] ? 3 : parallel[e] ? 2 : 1;
             double min_dt = 1e-9 * (E->t1 - E->t0);
             for (int k = 0; k < pieces; k++) {
@@ -341,6 +390,7 @@ fail:
 done:
     free(mine);
     free(parallel);
+    free(twin);
     free(all.t);
     for (int f = 0; f < n_inv; f++)
         cb_topo_inverter_clear(&inv[f]);

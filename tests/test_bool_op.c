@@ -1212,6 +1212,24 @@ static void test_occt_faces(void)
         }
     }
     {
+        /* The randomized corpus's sphere_in_cyl_1_axis_analytic (bench/corpus, seed 1): a
+         * sphere inside a cylinder of its radius, tangent along a circle; A - B is a void
+         * touching the wall. Its mesh crossed itself (23 pairs of triangles): the cut's
+         * tangents, with no cross product of parallel normals, were its chords at the ends
+         * (the cut's curve left the surfaces by 2e-4 next to its vertices), and the wall's
+         * and the void's edges along the circle, two copies of one curve, were sampled apart
+         * (tess_edge.c parallel_edges: twins). V(A), V(B) by mass integration. */
+        const char *files[2] = {"sphere_in_cyl_a.step", "sphere_in_cyl_b.step"};
+        cb_topo_body *A, *B;
+        double va, vb;
+        if (occt_pair(&A, &B, &va, &vb, files)) {
+            void_contact = 1;
+            check_op(files[0], CB_BOOL_DIFFERENCE, A, B, va - vb, 1e-6, NULL);
+        }
+        cb_topo_body_free(A);
+        cb_topo_body_free(B);
+    }
+    {
         /* The randomized corpus's cyl_steinmetz_2 (bench/corpus, seed 1), turned (analytic
          * cylinders) and moved (as B-splines): two cylinders of one radius whose axes cross,
          * both seams through one of the two points where the four intersection curves meet.
