@@ -122,6 +122,7 @@ static cb_status coedge_points(face_loops *L, const cb_topo_body *b, int c,
     if (pc)
         cb_topo_coedge_pcurve_range(&s0, &s1, b, c, inv, fmax(b->tol, E->tol));
     double shift[2] = {0, 0}, prev[2] = {0, 0};
+    int n0 = L->n;
     if (have_prev) {
         prev[0] = L->uv[2 * (L->n - 1)];
         prev[1] = L->uv[2 * (L->n - 1) + 1];
@@ -181,7 +182,74 @@ static cb_status coedge_points(face_loops *L, const cb_topo_body *b, int c,
         prev[0] = uv[0];
         prev[1] = uv[1];
     }
+    /* An end at a pole: its place on the pole line is the pcurve's value there, which a
+     * curve passing over the pole (a Boolean's cut through it, split there) may carry from
+     * the far side; the collapsed parameter is the one the coedge leaves or arrives with,
+     * so the loop runs along the pole line between coedges and not across the face. */
+    for (int e = 0; e < 2 && L->n - n0 >= 2; e++) {
+        int i = e ? L->n - 1 : n0, j = e ? L->n - 2 : n0 + 1;
+        for (int d = 0; d < 2; d++) {
+            /* At a pole the whole line of d through the end (over the period, or the
+             * sampled box) lies within gap_tol of it. */
+            double c[2] = {L->uv[2 * i], L->uv[2 * i + 1]};
+            double span = inv->period[d] > 0 ? inv->period[d] : inv->box[2 * d + 1] - inv->box[2 * d];
+            c[d] += isfinite(span) ? span : 0;
+            if (same_uv(c, L->uv + 2 * i) || cb_topo_inverter_spread(inv, L->uv + 2 * i, c) > gap_tol)
+                continue;
+            L->uv[2 * i + d] = L->uv[2 * j + d];
+        }
+    }
     return CB_OK;
+}
+
+/* Twice the signed area in (u, v) of the closed polygon pts[2 start .. 2 end). */
+static double loop_area2(const double *uv, int start, int end)
+{
+    double a = 0;
+    for (int i = start; i < end; i++) {
+        int j = i + 1 < end ? i + 1 : start;
+        a += uv[2 * i] * uv[2 * j + 1] - uv[2 * j] * uv[2 * i + 1];
+    }
+    return a;
+}
+
+/* A face's only loop has the face on its left in (u, v) (signed area of sign `want`: +1 when
+ * the face runs with its surface). Where it meets two pole lines of a surface periodic along
+ * them (half an ellipsoid cut through both poles, as a Boolean leaves it: two meridians and
+ * no seam edge), its samples do not say which way it runs along them: the meridians' lift
+ * by a period decides whether the strip between them or the rest of the surface is inside.
+ * The part between the two pole junctions is moved by the period that puts the face on the
+ * left. A loop that meets no pole or one pole, or already turns the right way, is kept. */
+static void lift_pole_strip(face_loops *L, int start, const cb_topo_inverter *inv, int want,
+                            double gap_tol)
+{
+    int end = L->n, jn[2], n_j = 0;
+    for (int i = start; i < end; i++) {
+        int j = i + 1 < end ? i + 1 : start;
+        if (L->id[i] == L->id[j] && !same_uv(L->uv + 2 * i, L->uv + 2 * j) &&
+            cb_topo_inverter_spread(inv, L->uv + 2 * i, L->uv + 2 * j) <= gap_tol) {
+            if (n_j == 2)
+                return;
+            jn[n_j++] = i;
+        }
+    }
+    double a = loop_area2(L->uv, start, end);
+    if (n_j != 2 || !(a * want < 0))
+        return;
+    /* The pole lines run along the parameter whose period is used. */
+    const double *p = L->uv + 2 * jn[0], *q = L->uv + 2 * (jn[0] + 1 < end ? jn[0] + 1 : start);
+    int d = fabs(p[0] - q[0]) >= fabs(p[1] - q[1]) ? 0 : 1;
+    double per = inv->period[d];
+    if (!(per > 0))
+        return;
+    for (int sgn = -1; sgn <= 1; sgn += 2) {
+        for (int i = jn[0] + 1; i <= jn[1]; i++)
+            L->uv[2 * i + d] += sgn * per;
+        if (loop_area2(L->uv, start, end) * want > 0)
+            return;
+        for (int i = jn[0] + 1; i <= jn[1]; i++)
+            L->uv[2 * i + d] -= sgn * per;
+    }
 }
 
 /* The loops of a face as closed polygons in (u, v) (the closing segment implied). A junction
@@ -228,6 +296,8 @@ static cb_status build_loops(face_loops *L, const cb_topo_body *b, int face,
         if (L->n - start < 3)
             return cb_error_set(err, CB_ERR_NUMERIC, "loop %d has fewer than 3 points in (u, v)",
                                 F->first + l);
+        if (F->count == 1)
+            lift_pole_strip(L, start, inv, F->same_sense ? 1 : -1, gap_tol);
         L->loop_end[L->n_loops++] = L->n;
     }
     return CB_OK;
