@@ -181,11 +181,12 @@ cb_status cb_analytic_torus(cb_analytic_surface *s, const cb_frame *f, double ma
         st = check_positive(minor_radius, "torus: minor radius", err);
     if (st)
         return st;
-    if (!(major_radius > minor_radius))
+    if (major_radius == minor_radius)
         return cb_error_set(err, CB_ERR_INVALID,
-                            "torus: major radius %.17g must exceed minor radius %.17g (horn and "
-                            "spindle tori, R <= r, intersect themselves and are not supported)",
-                            major_radius, minor_radius);
+                            "torus: major radius %.17g equals minor radius (a horn torus: its "
+                            "tube touches the axis in a point where it meets itself; not "
+                            "supported)",
+                            major_radius);
     analytic_set(s, CB_ANALYTIC_TORUS, f, major_radius, minor_radius, 0, 0);
     return CB_OK;
 }

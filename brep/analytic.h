@@ -58,7 +58,7 @@ typedef enum {
 /* A plain value (no heap storage). Fields by kind:
  *   cylinder, sphere: r1 = radius
  *   cone:             r1 = radius at v = 0 (>= 0), angle = semi-angle a in (0, pi/2)
- *   torus:            r1 = major radius R, r2 = minor radius r, R > r
+ *   torus:            r1 = major radius R, r2 = minor radius r
  *   ellipsoid:        r1, r2, r3 = semi-axes a, b, c along x', y', z'
  * Unused fields are 0. Build it with a constructor below, which checks the ranges. */
 typedef struct {
@@ -74,9 +74,11 @@ const char *cb_analytic_kind_name(cb_analytic_kind kind);
 /* The constructors copy the frame f (which must be right-handed orthonormal, as
  * cb_frame_make builds it) and check the shape parameters: radii finite and > 0, except the
  * cone's radius which may be 0 (STEP CONICAL_SURFACE WR1: radius >= 0, apex at the origin);
- * cone semi-angle in the open (0, pi/2); torus R > r. The torus is restricted to the ring
- * torus: STEP's DEGENERATE_TOROIDAL_SURFACE (R <= r, horn and spindle tori) intersects itself
- * and is rejected with a message that says so. On failure s is left unchanged. */
+ * cone semi-angle in the open (0, pi/2). A torus may be a ring (R > r) or a spindle (R < r,
+ * as some files write a screw head's dome), which meets itself on the axis: a face lies on
+ * one part, the apple (R + r cos v > 0, outside) or the lemon (inside, across the axis from
+ * its tube circle). A horn torus (R = r: the tube touches the axis in one point) is refused
+ * with a message that says so. On failure s is left unchanged. */
 cb_status cb_analytic_plane(cb_analytic_surface *s, const cb_frame *f, cb_error *err);
 cb_status cb_analytic_cylinder(cb_analytic_surface *s, const cb_frame *f, double radius,
                                cb_error *err);

@@ -276,8 +276,17 @@ static int closed_form(double uv[2], const cb_topo_surface *s, const double p[3]
     }
     case CB_ANALYTIC_SPHERE: uv[1] = atan2(l[2], rho); break;
     case CB_ANALYTIC_TORUS:
-        if (fabs(rho - a->r1) + fabs(l[2]) > 1e-13 * a->r1)
+        if (a->r1 < a->r2 && fabs(hypot(rho + a->r1, l[2]) - a->r2) + 1e-9 * a->r2 <
+                                 fabs(hypot(rho - a->r1, l[2]) - a->r2)) {
+            /* The lemon of a spindle torus (R + r cos v < 0): the point lies across the
+             * axis from its tube circle, half a turn round. (Near the axis, where the two
+             * meet, the apple's parameters as for any torus.) */
+            if (!on_axis)
+                uv[0] = atan2(-l[1], -l[0]);
+            uv[1] = atan2(l[2], -rho - a->r1);
+        } else if (fabs(rho - a->r1) + fabs(l[2]) > 1e-13 * a->r1) {
             uv[1] = atan2(l[2], rho - a->r1);
+        }
         break;
     default: break;
     }

@@ -254,7 +254,10 @@ static double analytic_distance(const cb_analytic_surface *a, const double p[3])
     case CB_ANALYTIC_PLANE: return fabs(l[2]);
     case CB_ANALYTIC_CYLINDER: return fabs(rho - a->r1);
     case CB_ANALYTIC_SPHERE: return fabs(cb_vec3_norm(l) - a->r1);
-    case CB_ANALYTIC_TORUS: return fabs(hypot(rho - a->r1, l[2]) - a->r2);
+    case CB_ANALYTIC_TORUS:
+        /* The tube's circle on the far side of the axis too: a spindle torus (R < r) reaches
+         * across the axis, its lemon part nearer the far circle. */
+        return fmin(fabs(hypot(rho - a->r1, l[2]) - a->r2), fabs(hypot(rho + a->r1, l[2]) - a->r2));
     case CB_ANALYTIC_CONE: {
         double c = cos(a->angle), s = sin(a->angle);
         return fmin(fabs((rho - a->r1) * c - l[2] * s), fabs((-rho - a->r1) * c - l[2] * s));

@@ -80,6 +80,26 @@ static void check_distance(const cb_topo_surface *s, const char *what, double u0
     cb_topo_projector_clear(&pr);
 }
 
+/* Points of the surface over its whole parameter box come back from the global inversion
+ * (no guess) onto themselves: any (u, v) of the point will do. */
+static void check_inversion(const cb_topo_surface *s, const char *what, check_rng *rng)
+{
+    cb_topo_inverter inv;
+    cb_error err;
+    CHECK(cb_topo_inverter_init(&inv, s, 1e-9, &err) == CB_OK, "%s: %s", what, err.msg);
+    double worst = 0;
+    for (int trial = 0; trial < 200; trial++) {
+        double u = check_rng_uniform(rng, 0, 2 * PI), v = check_rng_uniform(rng, 0, 2 * PI);
+        double p[3], q[3], uv[2];
+        cb_topo_inverter_eval(p, &inv, u, v);
+        cb_topo_inverter_invert(uv, &inv, p, NULL);
+        cb_topo_inverter_eval(q, &inv, uv[0], uv[1]);
+        worst = fmax(worst, cb_vec3_dist(p, q));
+    }
+    CHECK(worst < 1e-9, "%s: inverted points off by %g", what, worst);
+    cb_topo_inverter_clear(&inv);
+}
+
 static void test_surfaces(void)
 {
     check_rng rng = {7};
@@ -100,6 +120,14 @@ static void test_surfaces(void)
         check_distance(&s, "sphere", 0, 2 * PI, -1.4, 1.4, 1.0, &rng);
         cb_analytic_torus(&s.analytic, &f, 3.0, 1.0, &err);
         check_distance(&s, "torus", 0, 2 * PI, 0, 2 * PI, 0.5, &rng);
+        /* A spindle torus (R < r: a screw head's dome, r0901_ec.stp): its apple (the outer
+         * part, R + r cos v > 0, |v| < 2.094 here) and its lemon (inside, across the axis
+         * from its tube circle). Both measured against the nearer tube circle. */
+        CHECK(cb_analytic_torus(&s.analytic, &f, 1.0, 2.0, &err) == CB_OK, "spindle torus: %s",
+              err.msg);
+        check_distance(&s, "spindle torus, apple", 0, 2 * PI, -1.5, 1.5, 0.3, &rng);
+        check_distance(&s, "spindle torus, lemon", 0, 2 * PI, 2.7, 3.58, 0.2, &rng);
+        check_inversion(&s, "spindle torus", &rng);
 
         /* The same sphere as an exact rational B-spline, and as a circle revolved. */
         cb_analytic_sphere(&s.analytic, &f, 2.0, &err);
