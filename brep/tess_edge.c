@@ -343,7 +343,8 @@ cb_status cb_tess_edges_sample_zoned(cb_tess_edges *es, const cb_topo_body *b,
                     sc->inv = &inv[b->loops[C->loop].face];
                     sc->t0 = fwd ? E->t0 : E->t1;
                     sc->t1 = fwd ? E->t1 : E->t0;
-                    cb_topo_coedge_pcurve_range(&sc->s0, &sc->s1, b, co, sc->inv, tol);
+                    cb_topo_coedge_pcurve_range(&sc->s0, &sc->s1, b, co, sc->inv,
+                                                fmax(b->edges[f].tol, b->tol));
                 }
             int pieces = E->v[0] == E->v[1] ? 3 : parallel[e] ? 2 : 1;
             double min_dt = 1e-9 * (E->t1 - E->t0);

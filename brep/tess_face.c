@@ -106,6 +106,18 @@ static int at_pole(const cb_topo_inverter *inv, const double uv[2])
     return a <= 1e-9 * b || b <= 1e-9 * a;
 }
 
+/* Whether the whole line of parameter d through uv (over its period, or the sampled box)
+ * lies within gap_tol of S(uv) in space: uv is on a pole line along d. (The end of a
+ * degenerate edge running along the pole line has a neighbour on it too, and keeps its
+ * place.) */
+static int on_pole_line(const cb_topo_inverter *inv, const double uv[2], int d, double gap_tol)
+{
+    double c[2] = {uv[0], uv[1]};
+    double span = inv->period[d] > 0 ? inv->period[d] : inv->box[2 * d + 1] - inv->box[2 * d];
+    c[d] += isfinite(span) ? span : 0;
+    return !same_uv(c, uv) && cb_topo_inverter_spread(inv, uv, c) <= gap_tol;
+}
+
 /* Appends the samples of coedge c in traversal order, placed in (u, v). */
 static cb_status coedge_points(face_loops *L, const cb_topo_body *b, int c,
                                const cb_tess_edges *es, const cb_topo_inverter *inv, int have_prev,
@@ -188,16 +200,10 @@ static cb_status coedge_points(face_loops *L, const cb_topo_body *b, int c,
      * so the loop runs along the pole line between coedges and not across the face. */
     for (int e = 0; e < 2 && L->n - n0 >= 2; e++) {
         int i = e ? L->n - 1 : n0, j = e ? L->n - 2 : n0 + 1;
-        for (int d = 0; d < 2; d++) {
-            /* At a pole the whole line of d through the end (over the period, or the
-             * sampled box) lies within gap_tol of it. */
-            double c[2] = {L->uv[2 * i], L->uv[2 * i + 1]};
-            double span = inv->period[d] > 0 ? inv->period[d] : inv->box[2 * d + 1] - inv->box[2 * d];
-            c[d] += isfinite(span) ? span : 0;
-            if (same_uv(c, L->uv + 2 * i) || cb_topo_inverter_spread(inv, L->uv + 2 * i, c) > gap_tol)
-                continue;
-            L->uv[2 * i + d] = L->uv[2 * j + d];
-        }
+        for (int d = 0; d < 2; d++)
+            if (on_pole_line(inv, L->uv + 2 * i, d, gap_tol) &&
+                !on_pole_line(inv, L->uv + 2 * j, d, gap_tol))
+                L->uv[2 * i + d] = L->uv[2 * j + d];
     }
     return CB_OK;
 }

@@ -8,6 +8,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "brep/tess.h"
 #include "brep/topo.h"
 #include "check.h"
 #include "io/step.h"
@@ -482,6 +483,21 @@ static void test_pole_edge(void)
     st = cb_topo_validate(&r, b, 0, 9, &err);
     CHECK(st == CB_OK && r.n == 0, "cap: %d problems, first: %s", r.n, r.n ? r.items[0] : "");
     cb_topo_report_clear(&r);
+    /* Meshed: the loop runs along the pole line by the degenerate edge, whose ends both lie
+     * on it. */
+    cb_tess_face_mesh fm;
+    memset(&fm, 0, sizeof fm);
+    cb_tess_edges es;
+    cb_tess_edges_init(&es);
+    cb_tess_opts to;
+    st = cb_tess_opts_resolve(&to, NULL, b, &err);
+    if (!st)
+        st = cb_tess_edges_sample(&es, b, &to, NULL, &err);
+    if (!st)
+        st = cb_tess_face(&fm, b, f, &es, &to, NULL, &err);
+    CHECK(st == CB_OK && fm.n_tris > 0, "cap: mesh: %s", st ? err.msg : "no triangles");
+    cb_tess_face_mesh_clear(&fm);
+    cb_tess_edges_clear(&es);
     cb_topo_body_free(b);
 }
 
