@@ -841,13 +841,14 @@ static void difference(double *d, double *len, const cb_bool_cut *k, const doubl
     *len = norm3(e);
 }
 
+#define PARABOLA_TURN 0.25 /* radians: parabola_tangent's largest turn between two steps */
+
 /* The tangent direction at point i of cut k from its points alone: the derivative there of
  * the parabola through i and its two neighbours (the two after it, or before it, at an open
  * end), by chord length; (0, 0, 0) where two of them coincide or k has fewer than three
  * points. Second order, where a chord or a central difference is first order with unequal
  * steps (a step split at a seam is next to a whole one): a Hermite arc on a circle of radius
  * R with steps of L leaves the curve by up to L^2 / 8R on a chord's direction. */
-#define PARABOLA_TURN 0.25 /* radians */
 static void parabola_tangent(double d[3], const cb_bool_cut *k, int i)
 {
     memset(d, 0, 3 * sizeof *d);

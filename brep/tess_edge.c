@@ -217,17 +217,19 @@ static int same_curve(const cb_topo_curve *c, const cb_topo_curve *d)
  * same curve over the same range (e itself when none): where two faces of a body touch
  * along a curve that each pair of faces bounds by its own edge, both edges are sampled
  * alike, so that the meshes of the two pairs meet along the same chords instead of crossing
- * where the chords of one dip by their sagitta beside the other's samples. 0 when out of
- * memory. */
-static int parallel_edges(char **parallel, int **twin, const cb_topo_body *b)
+ * where the chords of one dip by their sagitta beside the other's samples. next[e]: the next
+ * later edge with the same twin, -1 after the last. 0 when out of memory. */
+static int parallel_edges(char **parallel, int **twin, int **next, const cb_topo_body *b)
 {
     int *pairs = malloc((size_t)(b->n_edges + 1) * 3 * sizeof(int));
     char *par = calloc((size_t)b->n_edges + 1, 1);
     int *tw = malloc((size_t)(b->n_edges + 1) * sizeof(int));
-    if (!pairs || !par || !tw) {
+    int *nx = malloc((size_t)(b->n_edges + 1) * sizeof(int));
+    if (!pairs || !par || !tw || !nx) {
         free(pairs);
         free(par);
         free(tw);
+        free(nx);
         return 0;
     }
     for (int e = 0; e < b->n_edges; e++) {
@@ -236,6 +238,7 @@ static int parallel_edges(char **parallel, int **twin, const cb_topo_body *b)
         pairs[3 * e + 1] = a < c ? c : a;
         pairs[3 * e + 2] = e;
         tw[e] = e;
+        nx[e] = -1;
     }
     /* Sorted by vertex pair, then edge index: a run's first twin is its earliest. */
     qsort(pairs, (size_t)b->n_edges, 3 * sizeof(int), cb_tess_cmp_int3);
@@ -253,9 +256,19 @@ static int parallel_edges(char **parallel, int **twin, const cb_topo_body *b)
                 tw[pairs[3 * k + 2]] = tw[pairs[3 * i + 2]];
         }
     }
+    /* Each group chained from its first edge in edge order. */
+    int *last = pairs; /* reused: the group's last edge so far, by its first */
+    for (int e = 0; e < b->n_edges; e++)
+        if (tw[e] != e) {
+            nx[last[tw[e]]] = e;
+            last[tw[e]] = e;
+        } else {
+            last[e] = e;
+        }
     free(pairs);
     *parallel = par;
     *twin = tw;
+    *next = nx;
     return 1;
 }
 
@@ -275,7 +288,7 @@ cb_status cb_tess_edges_sample_zoned(cb_tess_edges *es, const cb_topo_body *b,
     tlist all = {0};
     cb_topo_inverter *inv = NULL;
     char *parallel = NULL;
-    int *twin = NULL;
+    int *twin = NULL, *next = NULL;
     int n_inv = 0;
     cb_status st;
     cb_tess_zone *mine = NULL; /* the zones of the edge being sampled */
@@ -287,7 +300,7 @@ cb_status cb_tess_edges_sample_zoned(cb_tess_edges *es, const cb_topo_body *b,
         memcpy(es->xyz + 3 * v, b->vertices[v].p, sizeof(double[3]));
     es->n_points = b->n_vertices;
     int cap_ids = 0;
-    if (!parallel_edges(&parallel, &twin, b))
+    if (!parallel_edges(&parallel, &twin, &next, b))
         goto nomem;
     inv = calloc((size_t)b->n_faces + 1, sizeof(cb_topo_inverter));
     mine = malloc(((size_t)n_zones + 1) * sizeof *mine);
@@ -318,21 +331,18 @@ cb_status cb_tess_edges_sample_zoned(cb_tess_edges *es, const cb_topo_body *b,
             if (!tlist_push(&all, E->t1))
                 goto nomem;
         } else {
-            /* The zones and coedges of e and of its twins (later edges, all parallel). */
+            /* The zones and coedges of e and of its twins (next). */
             edge_job j = {c, o, {{0}}, 0, mine, 0};
-            int last = parallel[e] ? b->n_edges : e + 1;
             for (int z = 0; z < n_zones; z++) {
                 int in = 0;
-                for (int f = e; f < last && !in; f++)
-                    for (int k = b->edge_start[f];
-                         (f == e || twin[f] == e) && k < b->edge_start[f + 1] && !in; k++)
+                for (int f = e; f >= 0 && !in; f = next[f])
+                    for (int k = b->edge_start[f]; k < b->edge_start[f + 1] && !in; k++)
                         in = b->loops[b->coedges[b->edge_coedges[k]].loop].face == zones[z].face;
                 if (in)
                     mine[j.n_zones++] = zones[z];
             }
-            for (int f = e; f < last; f++)
-                for (int k = b->edge_start[f];
-                     (f == e || twin[f] == e) && k < b->edge_start[f + 1] && j.n_sides < 8; k++) {
+            for (int f = e; f >= 0; f = next[f])
+                for (int k = b->edge_start[f]; k < b->edge_start[f + 1] && j.n_sides < 8; k++) {
                     int co = b->edge_coedges[k];
                     const cb_topo_coedge *C = &b->coedges[co];
                     if (C->pcurve < 0)
@@ -392,6 +402,7 @@ done:
     free(mine);
     free(parallel);
     free(twin);
+    free(next);
     free(all.t);
     for (int f = 0; f < n_inv; f++)
         cb_topo_inverter_clear(&inv[f]);

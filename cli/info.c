@@ -128,7 +128,7 @@ static void info_mass_compute(info_mass *m, const cb_topo_body *b)
     m->skipped = 0;
     /* Faces that do not close up (cb_mass_closure_bound, at the edges' own tolerances): a
      * face integrated over the wrong region, the volume not to be trusted. */
-    double va = cb_vec3_norm(p.vector_area), bound = cb_mass_closure_bound(b, p.area, 1);
+    double va = cb_vec3_norm(p.vector_area), bound = st ? 0 : cb_mass_closure_bound(b, p.area, 1);
     if (st == CB_OK && !(va <= bound))
         st = cb_error_set(&err, CB_ERR_NUMERIC,
                           "mass: the faces' integrated normals do not close up (vector area "
