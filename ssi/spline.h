@@ -136,6 +136,11 @@ void _cb_ssi_split_iv(_cb_iv *lo, _cb_iv *hi, const _cb_iv *c, int d, int stride
 void _cb_ssi_split_iv_at(_cb_iv *lo, _cb_iv *hi, const _cb_iv *c, int d, int stride, int dim,
                          _cb_iv t);
 
+/* In place: the d + 1 enclosed control points c (stride dim) of a curve over [w0, w1] become
+ * those of its piece over [a, b] (w0 <= a < b <= w1), the fractions of the box enclosed as
+ * intervals so that the result holds for the exact a and b. */
+void _cb_ssi_restrict_iv(_cb_iv *c, int d, int dim, double w0, double w1, double a, double b);
+
 /* x / w for an interval w > 0 (outward rounding). */
 _cb_iv _cb_iv_div(_cb_iv x, _cb_iv w);
 
@@ -197,7 +202,37 @@ typedef struct {
     long edge_boxes;           /* boxes of the boundary root searches (_cb_ssi_edge_roots) */
     int wide;                  /* 1: the first run stopped at a tangent cluster wider than the
                                   near-node bound (its rest reported over budget) */
+    long side_pieces;          /* pieces along a side lying on the other patch (_cb_ssi_coside) */
+    double side_width;         /* the largest proved gap of those sides */
+    double side_box_p[4], side_box_q[4]; /* their parameter boxes, local [0,1]^2 */
+    double side_lo[3], side_hi[3];       /* and their 3D box */
 } _cb_ssi_spline_stats;
+
+/* A side of P that lies on a side of Q over a common range (a curve along patch sides, as where
+ * two faces share an edge): sides 0 u = 0, 1 u = 1, 2 v = 0, 3 v = 1 of the local [0,1]^2; the
+ * range [t0, t1] along P's side, paired with Q's side parameters m0, m1 (affinely between);
+ * width: proved bound (CB_SSI_COSIDE_WIDTH tol at most, ssi_tol.h) of the distance between the
+ * two sides' points paired so, over the range (the Bernstein coefficients of their difference,
+ * interval arithmetic); ep, eq: widths of the strips of P and Q along the sides (local
+ * parameters) within CB_SSI_COSIDE_STRIP tol of them in 3D (a bound of the partial derivative
+ * across). */
+typedef struct {
+    int sp, sq;
+    double t0, t1, m0, m1;
+    double width, ep, eq;
+} _cb_ssi_coside;
+
+/* The sides of polynomial patches P and Q that lie on each other as above, at most cap of
+ * them, into out; their number (0 for rational patches, and where sides only touch or meet at
+ * a point, or are reparametrised other than affinely: then the boundary roots along them are
+ * searched as usual). Sides are paired by projecting their ends on each other; only the proof
+ * of the width decides. */
+int _cb_ssi_cosides_find(_cb_ssi_coside *out, int cap, const _cb_ssi_bez *P, const _cb_ssi_bez *Q,
+                         double tol);
+
+/* The side parameter of Q paired with parameter t of P's side (the ends exactly), and back. */
+double _cb_ssi_coside_mu(const _cb_ssi_coside *r, double t);
+double _cb_ssi_coside_tau(const _cb_ssi_coside *r, double mu);
 
 /* A sub-pair the tests could not certify, left at the 3D floor (both sub-patches within tol / 8)
  * or within 8 tol and proved within tol of each other (slab: one slab of width <= tol holds

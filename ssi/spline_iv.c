@@ -216,6 +216,30 @@ void _cb_ssi_split_iv_at(_cb_iv *lo, _cb_iv *hi, const _cb_iv *c, int d, int str
     }
 }
 
+/* The fraction (x - w0) / (w1 - w0) as an interval within [0, 1]. */
+static _cb_iv fraction(double x, double w0, double w1)
+{
+    _cb_iv t = _cb_iv_div(_cb_iv_sub(_cb_iv_pt(x), _cb_iv_pt(w0)),
+                          _cb_iv_sub(_cb_iv_pt(w1), _cb_iv_pt(w0)));
+    t.lo = fmax(t.lo, 0);
+    t.hi = fmin(t.hi, 1);
+    return t;
+}
+
+void _cb_ssi_restrict_iv(_cb_iv *c, int d, int dim, double w0, double w1, double a, double b)
+{
+    _cb_iv lo[4 * (CB_MAX_DEGREE + 1)], hi[4 * (CB_MAX_DEGREE + 1)];
+    size_t sz = (size_t)(dim * (d + 1)) * sizeof(_cb_iv);
+    if (b < w1) {
+        _cb_ssi_split_iv_at(lo, hi, c, d, dim, dim, fraction(b, w0, w1));
+        memcpy(c, lo, sz);
+    }
+    if (a > w0) {
+        _cb_ssi_split_iv_at(lo, hi, c, d, dim, dim, fraction(a, w0, b));
+        memcpy(c, hi, sz);
+    }
+}
+
 void _cb_ssi_split_iv(_cb_iv *lo, _cb_iv *hi, const _cb_iv *c, int d, int stride, int dim)
 {
     _cb_iv w[4 * (CB_MAX_DEGREE + 1)];

@@ -7,6 +7,9 @@
 #include "brep/geom.h"
 #include "ssi/spline.h"
 
+/* Sides of one patch pair lying on each other: 16 pairs of sides at most, 8 in practice
+ * (two patches sharing every side twice over is a coincidence, found before). */
+#define MAX_COSIDES 8
 /* Boxes of the (edge parameter, other patch) search per boundary curve. */
 #define EDGE_BUDGET 4000
 /* Boundary points kept per sub-patch pair; more means many branches (split further). */
@@ -572,10 +575,21 @@ static void param_velocity(double d[2], const double Xu[3], const double Xv[3], 
     d[1] = (g11 * r2 - g12 * r1) / det;
 }
 
+/* 1 when node d reaches side `side` (0 u = 0, 1 u = 1, 2 v = 0, 3 v = 1) of its patch. */
+static int touches(const node *d, int side)
+{
+    return d->box[side] == (double)(side % 2);
+}
+
 /* Boundary points of the sub-pair: -1 ambiguous, else their number. side: 0 u = lo, 1 u = hi,
- * 2 v = lo, 3 v = hi of patch P (which = 0) or Q (which = 1). */
+ * 2 v = lo, 3 v = hi of patch P (which = 0) or Q (which = 1). The cosides cs[k] with bit k of
+ * act set run along a side of both sub-patches: those sides are not searched (their points
+ * are the coside's piece), nor the strips of width ep, eq along them on the sides across
+ * (roots there lie within CB_SSI_COSIDE_STRIP tol of the coside's curve: its crossing of that
+ * side). */
 static int boundary_points(bpt *out, const _cb_ssi_bez *P, const _cb_ssi_bez *Q, const node *a,
-                           const node *b, const double e[3], long *spent)
+                           const node *b, const double e[3], long *spent,
+                           const _cb_ssi_coside *cs, int ncs, unsigned act)
 {
     int nb = 0;
     for (int which = 0; which < 2; which++) {
@@ -585,12 +599,31 @@ static int boundary_points(bpt *out, const _cb_ssi_bez *P, const _cb_ssi_bez *Q,
         for (int q = 0; q < 3; q++)
             ax[0][q] = sn->nsum[q] / ls;
         for (int side = 0; side < 4; side++) {
-            if (edge_separated(cn, C->m, C->n, side, sn, (const double(*)[3])ax,
-                               ls > 0 && isfinite(ls)))
+            int skip = 0;
+            double wlo = 0, whi = 1;
+            for (int k = 0; k < ncs; k++) {
+                if (!(act >> k & 1))
+                    continue;
+                int s = which ? cs[k].sq : cs[k].sp;
+                double strip = which ? cs[k].eq : cs[k].ep;
+                if (s == side)
+                    skip = 1;
+                else if ((s < 2) != (side < 2)) {
+                    if (s % 2 == 0)
+                        wlo = fmax(wlo, strip);
+                    else
+                        whi = fmin(whi, 1 - strip);
+                }
+            }
+            if (skip || edge_separated(cn, C->m, C->n, side, sn, (const double(*)[3])ax,
+                                       ls > 0 && isfinite(ls)))
                 continue;
             int dir = side < 2 ? 0 : 1;
             double c = cn->box[side];
             double w0 = dir == 0 ? cn->box[2] : cn->box[0], w1 = dir == 0 ? cn->box[3] : cn->box[1];
+            double v0 = fmax(w0, wlo), v1 = fmin(w1, whi);
+            if (!(v0 < v1))
+                continue;
             _cb_ssi_edge_root r[MAX_BPTS];
             _cb_iv cnet[4 * (CB_MAX_DEGREE + 1)];
             int nc = dir == 0 ? C->n + 1 : C->m + 1, D = C->dim;
@@ -604,8 +637,10 @@ static int boundary_points(bpt *out, const _cb_ssi_bez *P, const _cb_ssi_bez *Q,
                 memcpy(cnet + D * k, cn->net + D * (i * (C->n + 1) + j),
                        (size_t)D * sizeof(_cb_iv));
             }
+            if (v0 > w0 || v1 < w1)
+                _cb_ssi_restrict_iv(cnet, nc - 1, D, w0, w1, v0, v1);
             int n = 0;
-            if (!_cb_ssi_edge_roots(r, MAX_BPTS, &n, C, dir, c, w0, w1, cnet, S, sn->box, sn->net,
+            if (!_cb_ssi_edge_roots(r, MAX_BPTS, &n, C, dir, c, v0, v1, cnet, S, sn->box, sn->net,
                                     EDGE_BUDGET, spent))
                 return -1;
             for (int k = 0; k < n; k++) {
@@ -658,6 +693,7 @@ typedef struct {
     double e[3];
     const double *bp, *bq; /* boxes */
     double tol;
+    double chord, max_seg; /* for the cosides' pieces (march takes its own) */
 } march_ctx;
 
 static void jac(double J[4][4], double F[4], double X[3], double Y[3], const march_ctx *m,
@@ -868,6 +904,105 @@ static int march(_cb_ssi_piece_set *out, const march_ctx *m, const bpt *a, const
     return ok == 1 ? -1 : ok;
 }
 
+/* The point of coside r at parameter t of P's side, as local (u, v, s, t) of both patches. */
+static void coside_x(double x[4], const _cb_ssi_coside *r, double t)
+{
+    double mu = _cb_ssi_coside_mu(r, t);
+    x[0] = r->sp < 2 ? r->sp : t;
+    x[1] = r->sp < 2 ? t : r->sp - 2;
+    x[2] = r->sq < 2 ? r->sq : mu;
+    x[3] = r->sq < 2 ? mu : r->sq - 2;
+}
+
+/* Appends the points of coside r over (t0, t1] to pc: halved until every chord is within
+ * chord of its middle point and max_seg long. */
+static cb_status coside_sample(_cb_ssi_piece *pc, const march_ctx *m, const _cb_ssi_coside *r,
+                               double t0, double t1, int depth)
+{
+    double x0[4], x1[4], xm[4], X0[3], X1[3], Xm[3];
+    coside_x(x0, r, t0);
+    coside_x(x1, r, t1);
+    coside_x(xm, r, 0.5 * (t0 + t1));
+    point_xyz(X0, m, x0);
+    point_xyz(X1, m, x1);
+    point_xyz(Xm, m, xm);
+    double len = sqrt((X1[0] - X0[0]) * (X1[0] - X0[0]) + (X1[1] - X0[1]) * (X1[1] - X0[1]) +
+                      (X1[2] - X0[2]) * (X1[2] - X0[2]));
+    if (depth < 40 && (len > m->max_seg || seg_dist(Xm, X0, X1) > m->chord)) {
+        cb_status st = coside_sample(pc, m, r, t0, 0.5 * (t0 + t1), depth + 1);
+        return st == CB_OK ? coside_sample(pc, m, r, 0.5 * (t0 + t1), t1, depth + 1) : st;
+    }
+    return push(pc, m, x1);
+}
+
+/* An end of a coside's piece on the line of a sub-box side: surface sigma's parameter dir fixed
+ * to c (local), the piece on half; the free parameter is the coside's side value (exact). */
+static void coside_end(_cb_ssi_end *e, const _cb_ssi_bez *B, int sigma, int dir, double c,
+                       int half, int side)
+{
+    const double *dom = B->dom;
+    int fr = 1 - dir;
+    double w = to_dom(side % 2, dom[2 * fr], dom[2 * fr + 1], 0);
+    _cb_ssi_end_line *l =
+        _cb_ssi_end_add_line(e, sigma, dir, half, to_dom(c, dom[2 * dir], dom[2 * dir + 1], 0),
+                             w, w);
+    if (l) {
+        l->range[0] = dom[2 * fr];
+        l->range[1] = dom[2 * fr + 1];
+    }
+}
+
+/* The piece of coside r in the sub-pair (a, b), both reaching its sides: P's side over a's
+ * range, where Q's side is in b's range. Its ends lie on the sub-box sides across it that
+ * bound that range (both where they coincide). 1 when a piece was appended, 0 when the ranges
+ * do not overlap, -1 when out of memory. */
+static int coside_piece(_cb_ssi_piece_set *out, const march_ctx *m, const node *a,
+                        const node *b, const _cb_ssi_coside *r)
+{
+    int dp = r->sp < 2, dq = r->sq < 2; /* the parameter along the side: 1 v, 0 u */
+    double a0 = a->box[2 * dp], a1 = a->box[2 * dp + 1];
+    double b0 = b->box[2 * dq], b1 = b->box[2 * dq + 1];
+    double tb0 = _cb_ssi_coside_tau(r, b0), tb1 = _cb_ssi_coside_tau(r, b1);
+    int rev = tb0 > tb1; /* Q's side runs against P's */
+    double blo = rev ? tb1 : tb0, bhi = rev ? tb0 : tb1;
+    double lo = fmax(fmax(a0, blo), r->t0), hi = fmin(fmin(a1, bhi), r->t1);
+    if (!(lo < hi))
+        return 0;
+    _cb_ssi_piece pc;
+    _cb_ssi_piece_init(&pc);
+    double x[4];
+    coside_x(x, r, lo);
+    cb_status st = push(&pc, m, x);
+    if (st == CB_OK)
+        st = coside_sample(&pc, m, r, lo, hi, 0);
+    _cb_ssi_piece *p = st == CB_OK ? _cb_ssi_piece_set_add(out) : NULL;
+    if (!p) {
+        _cb_ssi_piece_clear(&pc);
+        return -1;
+    }
+    for (int k = 0; k < 2; k++) {
+        double t = k ? hi : lo;
+        _cb_ssi_end *e = pc.end + k;
+        /* At a corner of P's patch the pieces of two cosides meet (two sides of one corner on
+         * the other surface): the corner's number makes them one point (ssi_stitch.c). */
+        if (t == 0 || t == 1) {
+            double x[4];
+            coside_x(x, r, t);
+            e->vid = (slong)(x[0] + 2 * x[1]);
+        }
+        if (t == (k ? a1 : a0))
+            coside_end(e, m->P, 0, dp, k ? a1 : a0, k ? -1 : 1, r->sp);
+        if (t == (k ? bhi : blo)) {
+            /* Q's bound giving that end: b1 where Q's side runs against P's, on its low half. */
+            int upper = k != rev;
+            coside_end(e, m->Q, 1, dq, upper ? b1 : b0, upper ? -1 : 1, r->sq);
+        }
+    }
+    pc.within = 1;
+    *p = pc;
+    return 1;
+}
+
 /* ---------------------------------------------------------------- the pair ----------------- */
 
 static void add_box(double u[4], const double b[4], int first)
@@ -892,6 +1027,24 @@ static void uncertified(_cb_ssi_spline_stats *st, const node *a, const node *b)
 static double width(const node *d)
 {
     return fmax(d->box[1] - d->box[0], d->box[3] - d->box[2]);
+}
+
+/* Counts a coside's piece pc of the sub-pair (a, b) in st, with its boxes and the side's
+ * proved width. */
+static void coside_stats(_cb_ssi_spline_stats *st, const _cb_ssi_piece *pc, const node *a,
+                         const node *b, const _cb_ssi_coside *r)
+{
+    int first = st->side_pieces == 0;
+    add_box(st->side_box_p, a->box, first);
+    add_box(st->side_box_q, b->box, first);
+    for (slong i = 0; i < pc->n; i++)
+        for (int q = 0; q < 3; q++) {
+            double x = pc->xyz[3 * i + q];
+            st->side_lo[q] = first && i == 0 ? x : fmin(st->side_lo[q], x);
+            st->side_hi[q] = first && i == 0 ? x : fmax(st->side_hi[q], x);
+        }
+    st->side_width = fmax(st->side_width, r->width);
+    st->side_pieces++;
 }
 
 /* ---------------------------------------------------------------- within the tolerance ---- */
@@ -937,7 +1090,7 @@ static void foot_on(double st[2], double Y[3], const _cb_ssi_bez *Q, const doubl
 
 /* Appends the unresolved sub-pair (a, b) of pair job to ts; -1 when out of memory. */
 static int tiny_add(_cb_ssi_tiny_set *ts, const node *a, const node *b, const _cb_ssi_bez *P,
-                    const _cb_ssi_bez *Q, int reason, int slab, int job)
+                    const _cb_ssi_bez *Q, int reason, int slab, int job, double tol)
 {
     if (ts->n == ts->alloc) {
         slong na = ts->alloc ? 2 * ts->alloc : 64;
@@ -959,16 +1112,30 @@ static int tiny_add(_cb_ssi_tiny_set *ts, const node *a, const node *b, const _c
         t->bq[2 * k] = dq[2 * k] + b->box[2 * k] * (dq[2 * k + 1] - dq[2 * k]);
         t->bq[2 * k + 1] = dq[2 * k] + b->box[2 * k + 1] * (dq[2 * k + 1] - dq[2 * k]);
     }
-    /* The candidate point: P's middle and its foot on Q, each on its patch. */
-    double x[4] = {0.5 * (a->box[0] + a->box[1]), 0.5 * (a->box[2] + a->box[3]),
-                   0.5 * (b->box[0] + b->box[1]), 0.5 * (b->box[2] + b->box[3])};
-    double A[3], B[3], d1[3], d2[3];
-    _cb_ssi_bez_eval(A, d1, d2, P, x[0], x[1]);
-    foot_on(x + 2, B, Q, A);
+    /* The candidate point: P's middle and its foot on Q, each on its patch; where that is
+     * farther than tol (a sub-pair where the patches meet only at their corners, as where a
+     * curve along their sides passes from one patch pair to the next), the nearest of the
+     * sub-patch's corners and their feet. */
+    double x[4] = {0}, A[3] = {0}, B[3] = {0}, d1[3], d2[3];
+    t->gap = HUGE_VAL;
+    for (int k = 0; k < 5 && !(t->gap <= tol); k++) {
+        double y[4] = {k ? a->box[(k - 1) & 1] : 0.5 * (a->box[0] + a->box[1]),
+                       k ? a->box[2 + ((k - 1) >> 1)] : 0.5 * (a->box[2] + a->box[3]),
+                       0.5 * (b->box[0] + b->box[1]), 0.5 * (b->box[2] + b->box[3])};
+        double Y[3], Z[3];
+        _cb_ssi_bez_eval(Y, d1, d2, P, y[0], y[1]);
+        foot_on(y + 2, Z, Q, Y);
+        double g = sqrt((Y[0] - Z[0]) * (Y[0] - Z[0]) + (Y[1] - Z[1]) * (Y[1] - Z[1]) +
+                        (Y[2] - Z[2]) * (Y[2] - Z[2]));
+        if (k == 0 || g < t->gap) {
+            t->gap = g;
+            memcpy(x, y, sizeof x);
+            memcpy(A, Y, sizeof A);
+            memcpy(B, Z, sizeof B);
+        }
+    }
     for (int q = 0; q < 3; q++)
         t->X[q] = 0.5 * (A[q] + B[q]);
-    t->gap = sqrt((A[0] - B[0]) * (A[0] - B[0]) + (A[1] - B[1]) * (A[1] - B[1]) +
-                  (A[2] - B[2]) * (A[2] - B[2]));
     t->uv[0] = dp[0] + x[0] * (dp[1] - dp[0]);
     t->uv[1] = dp[2] + x[1] * (dp[3] - dp[2]);
     t->st[0] = dq[0] + x[2] * (dq[1] - dq[0]);
@@ -1457,6 +1624,9 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
     stack[sp][0] = 0;
     stack[sp][1] = 0;
     sp++;
+    /* Sides lying on each other: their curve is taken as it is (_cb_ssi_coside). */
+    _cb_ssi_coside cs[MAX_COSIDES];
+    int ncs = _cb_ssi_cosides_find(cs, MAX_COSIDES, P, Q, o->tol);
     /* A band run is kept only when it leaves nothing uncertified (ssi_pairs.c): once one
      * sub-pair is, the rest is not needed. */
     /* A run that is not the band run gives up once a cluster of its tangent sub-pairs is
@@ -1483,7 +1653,7 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
             (o->max_edge_boxes > 0 && st->edge_boxes >= o->max_edge_boxes)) {
             uncertified(st, TP.nd + ia, TQ.nd + ib);
             /* A region left open here: a tangent region meeting it is not resolved. */
-            if (tiny_add(tiny, TP.nd + ia, TQ.nd + ib, P, Q, 0, 0, job))
+            if (tiny_add(tiny, TP.nd + ia, TQ.nd + ib, P, Q, 0, 0, job, o->tol))
                 st->nomem = 1;
             else
                 tiny->t[tiny->n - 1].blocker = 1;
@@ -1510,10 +1680,27 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
         int reason = 0; /* 1 no direction, 2 ambiguous roots, 3 several or inconsistent ends */
         bpt bp[MAX_BPTS];
         int nb = 0;
-        if (!cone_direction(e, a, b, TP.nn, TQ.nn))
+        /* The cosides both sub-patches reach. */
+        unsigned act = 0;
+        for (int k = 0; k < ncs; k++)
+            act |= (unsigned)(touches(a, cs[k].sp) && touches(b, cs[k].sq)) << k;
+        if (!cone_direction(e, a, b, TP.nn, TQ.nn)) {
             reason = 1;
+            /* Along a coside where the sub-patches are proved within tol of each other and no
+             * boundary root lies off the coside: its piece stands for the intersection there
+             * (a contact band along the side, as beside a node at a corner; within tolerance,
+             * tolerance-certificates.md section 2). e only orients roots, of which there are
+             * none. */
+            double la = sqrt(dot(a->nsum, a->nsum));
+            if (act && la > 0 && isfinite(la) && slab_within(a, b, TP.nn, TQ.nn, o->tol)) {
+                for (int q = 0; q < 3; q++)
+                    e[q] = a->nsum[q] / la;
+                if (boundary_points(bp, P, Q, a, b, e, &st->edge_boxes, cs, ncs, act) == 0)
+                    reason = -1;
+            }
+        }
         if (!reason) {
-            nb = boundary_points(bp, P, Q, a, b, e, &st->edge_boxes);
+            nb = boundary_points(bp, P, Q, a, b, e, &st->edge_boxes, cs, ncs, act);
             if (nb < 0)
                 reason = 2;
             else if (nb > 0) {
@@ -1525,10 +1712,23 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
                     reason = 3;
             }
         }
+        if (reason == -1)
+            reason = 0; /* nb = 0: only the cosides' pieces */
         if (!reason) {
             st->certified++;
+            march_ctx mc = {P, Q, {e[0], e[1], e[2]}, a->box, b->box, o->tol, o->chord,
+                            o->max_seg};
+            for (int k = 0; k < ncs && !st->nomem; k++) {
+                if (!(act >> k & 1))
+                    continue;
+                slong n0 = out->n;
+                int got = coside_piece(out, &mc, a, b, cs + k);
+                if (got < 0)
+                    st->nomem = 1;
+                if (got > 0)
+                    coside_stats(st, out->p + n0, a, b, cs + k);
+            }
             if (nb == 2) {
-                march_ctx mc = {P, Q, {e[0], e[1], e[2]}, a->box, b->box, o->tol};
                 const bpt *en = bp[0].entry ? bp : bp + 1, *ex = bp[0].entry ? bp + 1 : bp;
                 st->branches++;
                 int marched = march(out, &mc, en, ex, o->chord, o->max_seg);
@@ -1548,7 +1748,7 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
                     (a->size <= STOP_TOL * o->tol && b->size <= STOP_TOL * o->tol);
         int slab = small && slab_within(a, b, TP.nn, TQ.nn, o->tol);
         if ((a->size <= TINY_TOL * o->tol && b->size <= TINY_TOL * o->tol) || slab) {
-            if (tiny_add(tiny, a, b, P, Q, reason, slab, job)) {
+            if (tiny_add(tiny, a, b, P, Q, reason, slab, job, o->tol)) {
                 st->nomem = 1;
                 uncertified(st, a, b);
                 break;
@@ -1563,7 +1763,7 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
             st->ambiguous_roots += reason == 2;
             st->many_branches += reason == 3;
             uncertified(st, a, b);
-            if (tiny_add(tiny, a, b, P, Q, reason, 0, job))
+            if (tiny_add(tiny, a, b, P, Q, reason, 0, job, o->tol))
                 st->nomem = 1;
             else
                 tiny->t[tiny->n - 1].blocker = 1;

@@ -188,8 +188,9 @@ const char *cb_ssi_outcome_name(cb_ssi_outcome o);
  * that end point exactly. tangential: the surfaces touch along the whole curve (it lies on a
  * repeated factor of phi). certified: 1 when every piece comes from a certified patch pair and
  * every join of two pieces follows from the certified graphs (the same boundary root of a
- * shared patch side, ssi_stitch.c); 0 when some join was resolved within tolerance (its region
- * is in r->region). */
+ * shared patch side, ssi_stitch.c); 0 when some join was resolved within tolerance, or a piece
+ * was (a contact band's valley, a side lying on the other surface's side); its region is in
+ * r->region. */
 typedef struct {
     slong n;
     cb_ssi_point *pt;
@@ -260,17 +261,23 @@ typedef struct {
  *   NEAR_NODE    curve ends that the certified graphs could not tell apart or join (several
  *                candidates within their bounds on a patch side, or ends on no side) whose 3D
  *                box has diameter width <= tol: joined at one node (the first end's point);
- *   CONTACT_BAND surfaces within width of each other along a band (not produced yet: the hook
- *                for the subdivision route's distance certificates).
+ *   CONTACT_BAND surfaces proved within tol of each other over a region wider than tol (width
+ *                its diameter, up to 1000 tol): a contact band, or a near-tangent node or cusp
+ *                (the subdivision route's tangent regions);
+ *   SIDE         a side of a patch of A lying on a side of a patch of B (two faces sharing an
+ *                edge): the curve along it is that side, its points within width (<= tol / 2,
+ *                proved) of both surfaces; boundary roots within tol / 2 of it on the sides
+ *                across are taken as its crossings of them (the subdivision route).
  * Parameter boxes {u0, u1, v0, v1} in A's and B's parameters (patch indices -1 for an analytic
  * side or when several patches are involved); lo, hi the 3D box. */
 typedef enum {
     CB_SSI_REGION_COINCIDENCE = 0,
     CB_SSI_REGION_NEAR_NODE = 1,
-    CB_SSI_REGION_CONTACT_BAND = 2
+    CB_SSI_REGION_CONTACT_BAND = 2,
+    CB_SSI_REGION_SIDE = 3
 } cb_ssi_region_kind;
 
-/* "coincidence", "near_node", "contact_band". */
+/* "coincidence", "near_node", "contact_band", "side". */
 const char *cb_ssi_region_kind_name(cb_ssi_region_kind k);
 
 typedef struct {

@@ -1198,6 +1198,25 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
         }
         for (slong k = 0; k < nj && twithin; k++)
             job[k].tiny_within = twithin[k];
+        /* Each pair with curves along sides lying on each other, listed (its outcome within
+         * tolerance below). */
+        for (slong k = 0; k < nj && st == CB_OK; k++) {
+            const pair_job *J = job + k;
+            if (!J->spline || J->st != CB_OK || J->sst.side_pieces == 0)
+                continue;
+            int pa = ppat ? J->ip : -1, pb = J->iq;
+            cb_ssi_region *rg = _cb_ssi_add_region(r, CB_SSI_REGION_SIDE, fa, fb,
+                                                   swapped ? pb : pa, swapped ? pa : pb,
+                                                   J->sst.side_width);
+            if (!rg) {
+                st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory recording a side");
+                break;
+            }
+            memcpy(rg->lo, J->sst.side_lo, sizeof rg->lo);
+            memcpy(rg->hi, J->sst.side_hi, sizeof rg->hi);
+            box_to_domain(swapped ? rg->box_b : rg->box_a, J->sst.side_box_p, ppat + J->ip);
+            box_to_domain(swapped ? rg->box_a : rg->box_b, J->sst.side_box_q, qpat + J->iq);
+        }
         free(treg);
         free(twithin);
         for (slong k = 0; k < nj && st == CB_OK; k++) {
@@ -1270,7 +1289,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                     memcpy(swapped ? f->box_b : f->box_a, bp, sizeof bp);
                     memcpy(swapped ? f->box_a : f->box_b, bq, sizeof bq);
                 }
-            } else if (J->tiny_within) {
+            } else if (J->tiny_within || (J->spline && J->sst.side_pieces > 0)) {
                 r->pairs_within_tolerance++;
                 J->within = 1;
             } else {

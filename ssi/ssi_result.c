@@ -31,6 +31,8 @@ const char *cb_ssi_region_kind_name(cb_ssi_region_kind k)
         return "near_node";
     case CB_SSI_REGION_CONTACT_BAND:
         return "contact_band";
+    case CB_SSI_REGION_SIDE:
+        return "side";
     }
     return "unknown";
 }

@@ -108,6 +108,20 @@
  * cluster holding a branch end is followed by a third, fine run with the larger budget
  * spline_node_subpairs (ssi_pairs.c). */
 
+/* ---------------------------------------------------------------- sides on each other ----- */
+
+/* A side of one Bezier patch lying on a side of the other (spline_side.c, _cb_ssi_coside: two
+ * faces sharing an edge; the boundary classes of bench_ssi_corpus): taken as a curve of the
+ * intersection when the Bernstein coefficients of the two sides' difference over their common
+ * range (paired affinely) are within CB_SSI_COSIDE_WIDTH tol. Then the sub-pairs along it do
+ * not search that side for boundary roots, nor the strips of the sides across it within
+ * CB_SSI_COSIDE_STRIP tol of it in 3D (a root there is the side curve's crossing), and a
+ * sub-pair along it without a proved direction whose sub-patches are proved within tol of
+ * each other and have no other boundary root has the side's piece for all of its intersection.
+ * within_tolerance (a SIDE region per patch pair; the curves not certified). */
+#define CB_SSI_COSIDE_WIDTH 0.5
+#define CB_SSI_COSIDE_STRIP 0.5
+
 /* ---------------------------------------------------------------- closed forms ------------ */
 
 /* Analytic/analytic closed forms (ssi_analytic.c) decide special positions on the exact

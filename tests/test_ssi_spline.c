@@ -2,8 +2,8 @@
  * interval enclosures (polynomial and rational patches), a paraboloid against a tilted plane
  * (closed form circle), two crossing spline cylinders, a loop of radius 1e-3, a touching pair
  * (must be reported, not dropped), a patch against itself (coincident), a rational bicubic
- * against a plane, an analytic cylinder against a B-spline of degree 7 (converted), thread-count
- * independence. */
+ * against a plane, an analytic cylinder against a B-spline of degree 7 (converted), two patches
+ * sharing a side, thread-count independence. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -567,6 +567,103 @@ static void test_touch_exact(void)
                   fabs(p->p.uv_a[1] - 0.5) < 1e-9,
               "contact at (%g, %g, %g), uv (%g, %g)", p->p.xyz[0], p->p.xyz[1], p->p.xyz[2],
               p->p.uv_a[0], p->p.uv_a[1]);
+    }
+    cb_ssi_result_clear(r);
+    cb_nurbs_surface_clear(a);
+    cb_nurbs_surface_clear(b);
+}
+
+/* Two bicubic patches sharing a side over part of it (as two faces sharing an edge): P over
+ * x in [0, 1], Q on the other side of the plane x = 0, Q's side s = 0 P's side u = 0 over
+ * [0.2, 0.9], reversed (de Casteljau in doubles: the two agree to round-off only). Found and
+ * proved by _cb_ssi_cosides_find, not when the sides differ by 1e-4; the intersection is that
+ * side, a curve within tolerance with a "side" region (refused before: the boundary-root search
+ * meets a continuum of roots along it). */
+static void test_shared_side(void)
+{
+    double pp[48], qp[48], knots[8] = {0, 0, 0, 0, 1, 1, 1, 1};
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) {
+            pp[3 * (4 * i + j)] = i / 3.0;
+            pp[3 * (4 * i + j) + 1] = j / 3.0;
+            pp[3 * (4 * i + j) + 2] = 0.1 * sin(1.7 * i + 2.3 * j + 0.4);
+        }
+    /* P's side u = 0 over [0.2, 0.9], reversed: split at 0.9, then the low part at 0.2 / 0.9. */
+    double c[12], lo[12], hi[12];
+    for (int j = 0; j < 4; j++)
+        memcpy(c + 3 * j, pp + 3 * j, 3 * sizeof(double));
+    for (int pass = 0; pass < 2; pass++) {
+        double t = pass ? 0.2 / 0.9 : 0.9, w[12];
+        memcpy(w, c, sizeof w);
+        for (int r = 0; r <= 3; r++) {
+            memcpy(lo + 3 * r, w, 3 * sizeof(double));
+            memcpy(hi + 3 * (3 - r), w + 3 * (3 - r), 3 * sizeof(double));
+            for (int k = 0; k + r < 3; k++)
+                for (int q = 0; q < 3; q++)
+                    w[3 * k + q] += t * (w[3 * k + 3 + q] - w[3 * k + q]);
+        }
+        memcpy(c, pass ? hi : lo, sizeof c);
+    }
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++) {
+            const double *e = c + 3 * (3 - j);
+            qp[3 * (4 * i + j)] = e[0] - 0.2 * i;
+            qp[3 * (4 * i + j) + 1] = e[1] + 0.03 * i * j;
+            qp[3 * (4 * i + j) + 2] = e[2] + 0.15 * i - 0.02 * i * i;
+        }
+    cb_nurbs_surface_t a, b;
+    cb_nurbs_surface_init(a);
+    cb_nurbs_surface_init(b);
+    cb_error err;
+    CHECK(cb_nurbs_surface_make(a, 3, 3, knots, 8, knots, 8, pp, NULL, 4, 4, &err) == CB_OK &&
+              cb_nurbs_surface_make(b, 3, 3, knots, 8, knots, 8, qp, NULL, 4, 4, &err) == CB_OK,
+          "shared side: %s", err.msg);
+    _cb_ssi_bez P, Q;
+    CHECK(_cb_ssi_bez_set(&P, a, &err) == CB_OK && _cb_ssi_bez_set(&Q, b, &err) == CB_OK,
+          "shared side: %s", err.msg);
+    _cb_ssi_coside cs[8];
+    int n = _cb_ssi_cosides_find(cs, 8, &P, &Q, 1e-6);
+    CHECK(n == 1 && cs[0].sp == 0 && cs[0].sq == 0 && fabs(cs[0].t0 - 0.2) < 1e-9 &&
+              fabs(cs[0].t1 - 0.9) < 1e-9 && cs[0].m0 == 1 && cs[0].m1 == 0 &&
+              cs[0].width < 1e-12 && cs[0].ep > 0 && cs[0].eq > 0,
+          "cosides %d: sides %d %d, t [%.12g, %.12g], mu %g %g, width %g", n,
+          n ? cs[0].sp : -1, n ? cs[0].sq : -1, n ? cs[0].t0 : 0, n ? cs[0].t1 : 0,
+          n ? cs[0].m0 : 0, n ? cs[0].m1 : 0, n ? cs[0].width : 0);
+    Q.pts[3 * 1 + 2] += 1e-4;
+    CHECK(_cb_ssi_cosides_find(cs, 8, &P, &Q, 1e-6) == 0, "sides 1e-4 apart taken as one");
+    _cb_ssi_bez_clear(&P);
+    _cb_ssi_bez_clear(&Q);
+
+    cb_ssi_opts o;
+    cb_ssi_opts_default(&o);
+    cb_ssi_result_t r;
+    run(r, a, b, &o, "shared side");
+    int sides = 0;
+    for (slong g = 0; g < r->n_regions; g++)
+        sides += r->region[g].kind == CB_SSI_REGION_SIDE && r->region[g].width <= 0.5 * r->tol;
+    CHECK(r->status == CB_OK && r->n_failed == 0 && r->n_curves == 1 && r->n_points == 0 &&
+              sides >= 1 && r->pairs_within_tolerance >= 1,
+          "status %d, %ld failed, %ld curves, %ld points, %d side regions", r->status,
+          (long)r->n_failed, (long)r->n_curves, (long)r->n_points, sides);
+    if (r->n_curves == 1) {
+        const cb_ssi_curve *cv = r->curve;
+        double X0[3], X1[3], d[6][3];
+        cb_nurbs_surface_eval_derivs(d, a, 0, 0.2);
+        memcpy(X0, d[0], sizeof X0);
+        cb_nurbs_surface_eval_derivs(d, a, 0, 0.9);
+        memcpy(X1, d[0], sizeof X1);
+        const double *e0 = cv->pt[0].xyz, *e1 = cv->pt[cv->n - 1].xyz;
+        double d0 = fmin(hypot(hypot(e0[0] - X0[0], e0[1] - X0[1]), e0[2] - X0[2]),
+                         hypot(hypot(e1[0] - X0[0], e1[1] - X0[1]), e1[2] - X0[2]));
+        double d1 = fmin(hypot(hypot(e0[0] - X1[0], e0[1] - X1[1]), e0[2] - X1[2]),
+                         hypot(hypot(e1[0] - X1[0], e1[1] - X1[1]), e1[2] - X1[2]));
+        double off = 0;
+        for (slong i = 0; i < cv->n; i++)
+            off = fmax(off, fabs(cv->pt[i].xyz[0]));
+        CHECK(!cv->closed && !cv->certified && d0 < 1e-9 && d1 < 1e-9 && off < 1e-12 &&
+                  max_dist(r, a, b) <= r->tol,
+              "closed %d certified %d, ends %g and %g from the side's, %g off x = 0, distance %g",
+              cv->closed, cv->certified, d0, d1, off, max_dist(r, a, b));
     }
     cb_ssi_result_clear(r);
     cb_nurbs_surface_clear(a);
@@ -1271,6 +1368,7 @@ int main(int argc, char **argv)
     test_small_loop();
     test_rational();
     test_touch_exact();
+    test_shared_side();
     test_example2_pair();
     test_coincident();
     test_tangent_regions();
