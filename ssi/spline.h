@@ -202,7 +202,9 @@ typedef struct {
     long edge_boxes;           /* boxes of the boundary root searches (_cb_ssi_edge_roots) */
     int wide;                  /* 1: the first run stopped at a tangent cluster wider than the
                                   near-node bound (its rest reported over budget) */
-    long side_pieces;          /* pieces along a side lying on the other patch (_cb_ssi_coside) */
+    long side_subpairs;        /* certified sub-pairs along a side lying on the other patch's
+                                  (_cb_ssi_coside), whose rules are within tolerance */
+    long side_pieces;          /* the pieces along such sides among their pieces */
     double side_width;         /* the largest proved gap of those sides */
     double side_box_p[4], side_box_q[4]; /* their parameter boxes, local [0,1]^2 */
     double side_lo[3], side_hi[3];       /* and their 3D box */

@@ -926,9 +926,7 @@ static cb_status coside_sample(_cb_ssi_piece *pc, const march_ctx *m, const _cb_
     point_xyz(X0, m, x0);
     point_xyz(X1, m, x1);
     point_xyz(Xm, m, xm);
-    double len = sqrt((X1[0] - X0[0]) * (X1[0] - X0[0]) + (X1[1] - X0[1]) * (X1[1] - X0[1]) +
-                      (X1[2] - X0[2]) * (X1[2] - X0[2]));
-    if (depth < 40 && (len > m->max_seg || seg_dist(Xm, X0, X1) > m->chord)) {
+    if (depth < 40 && (cb_vec3_dist(X0, X1) > m->max_seg || seg_dist(Xm, X0, X1) > m->chord)) {
         cb_status st = coside_sample(pc, m, r, t0, 0.5 * (t0 + t1), depth + 1);
         return st == CB_OK ? coside_sample(pc, m, r, 0.5 * (t0 + t1), t1, depth + 1) : st;
     }
@@ -1029,22 +1027,25 @@ static double width(const node *d)
     return fmax(d->box[1] - d->box[0], d->box[3] - d->box[2]);
 }
 
-/* Counts a coside's piece pc of the sub-pair (a, b) in st, with its boxes and the side's
- * proved width. */
+/* Counts in st a certified sub-pair (a, b) along coside r (its rules decided there, within
+ * tolerance), with its boxes (3D: of its piece pc, or of the sub-patches where none) and the
+ * side's proved width. */
 static void coside_stats(_cb_ssi_spline_stats *st, const _cb_ssi_piece *pc, const node *a,
                          const node *b, const _cb_ssi_coside *r)
 {
-    int first = st->side_pieces == 0;
+    int first = st->side_subpairs == 0;
     add_box(st->side_box_p, a->box, first);
     add_box(st->side_box_q, b->box, first);
-    for (slong i = 0; i < pc->n; i++)
+    for (slong i = 0; i < (pc ? pc->n : 2); i++)
         for (int q = 0; q < 3; q++) {
-            double x = pc->xyz[3 * i + q];
-            st->side_lo[q] = first && i == 0 ? x : fmin(st->side_lo[q], x);
-            st->side_hi[q] = first && i == 0 ? x : fmax(st->side_hi[q], x);
+            double lo = pc ? pc->xyz[3 * i + q] : i ? b->lo[q] : a->lo[q];
+            double hi = pc ? lo : i ? b->hi[q] : a->hi[q];
+            st->side_lo[q] = first && i == 0 ? lo : fmin(st->side_lo[q], lo);
+            st->side_hi[q] = first && i == 0 ? hi : fmax(st->side_hi[q], hi);
         }
     st->side_width = fmax(st->side_width, r->width);
-    st->side_pieces++;
+    st->side_subpairs++;
+    st->side_pieces += pc != NULL;
 }
 
 /* ---------------------------------------------------------------- within the tolerance ---- */
@@ -1725,8 +1726,8 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
                 int got = coside_piece(out, &mc, a, b, cs + k);
                 if (got < 0)
                     st->nomem = 1;
-                if (got > 0)
-                    coside_stats(st, out->p + n0, a, b, cs + k);
+                else
+                    coside_stats(st, got ? out->p + n0 : NULL, a, b, cs + k);
             }
             if (nb == 2) {
                 const bpt *en = bp[0].entry ? bp : bp + 1, *ex = bp[0].entry ? bp + 1 : bp;

@@ -6,6 +6,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "brep/geom.h"
 #include "ssi/spline.h"
 #include "ssi/ssi_tol.h"
 
@@ -14,12 +15,6 @@
 /* A strip across a side wider than this fraction of the patch is no strip (a patch of a few
  * tol): the side is left to the usual search. */
 #define MAX_STRIP 1e-3
-
-static double dist3(const double a[3], const double b[3])
-{
-    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                (a[2] - b[2]) * (a[2] - b[2]));
-}
 
 /* Point X and derivative D along side `side` of B at w. */
 static void side_eval(double X[3], double D[3], const _cb_ssi_bez *B, int side, double w)
@@ -37,7 +32,7 @@ static double side_project(double *w, const _cb_ssi_bez *B, int side, const doub
     double best = HUGE_VAL, bw = 0, Y[3], D[3];
     for (int k = 0; k <= 16; k++) {
         side_eval(Y, D, B, side, k / 16.0);
-        double d = dist3(X, Y);
+        double d = cb_vec3_dist(X, Y);
         if (d < best) {
             best = d;
             bw = k / 16.0;
@@ -60,7 +55,7 @@ static double side_project(double *w, const _cb_ssi_bez *B, int side, const doub
     }
     side_eval(Y, D, B, side, bw);
     *w = bw;
-    return dist3(X, Y);
+    return cb_vec3_dist(X, Y);
 }
 
 /* The side's control points as point intervals (3 per point); its degree. */
@@ -132,7 +127,7 @@ static double across_bound(const _cb_ssi_bez *B, int side)
         for (int j = 0; j + (u ? 0 : 1) <= n; j++) {
             const double *p = B->pts + 3 * (i * (n + 1) + j);
             const double *r = B->pts + 3 * ((i + u) * (n + 1) + j + !u);
-            L = fmax(L, _cb_iv_up(dist3(p, r) * (1 + 0x1p-50)));
+            L = fmax(L, _cb_iv_up(cb_vec3_dist(p, r) * (1 + 0x1p-50)));
         }
     return (u ? m : n) * L;
 }

@@ -1202,7 +1202,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
          * tolerance below). */
         for (slong k = 0; k < nj && st == CB_OK; k++) {
             const pair_job *J = job + k;
-            if (!J->spline || J->st != CB_OK || J->sst.side_pieces == 0)
+            if (!J->spline || J->st != CB_OK || J->sst.side_subpairs == 0)
                 continue;
             int pa = ppat ? J->ip : -1, pb = J->iq;
             cb_ssi_region *rg = _cb_ssi_add_region(r, CB_SSI_REGION_SIDE, fa, fb,
@@ -1289,7 +1289,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                     memcpy(swapped ? f->box_b : f->box_a, bp, sizeof bp);
                     memcpy(swapped ? f->box_a : f->box_b, bq, sizeof bq);
                 }
-            } else if (J->tiny_within || (J->spline && J->sst.side_pieces > 0)) {
+            } else if (J->tiny_within || (J->spline && J->sst.side_subpairs > 0)) {
                 r->pairs_within_tolerance++;
                 J->within = 1;
             } else {
