@@ -952,10 +952,11 @@ static void coside_end(_cb_ssi_end *e, const _cb_ssi_bez *B, int sigma, int dir,
 
 /* The piece of coside r in the sub-pair (a, b), both reaching its sides: P's side over a's
  * range, where Q's side is in b's range. Its ends lie on the sub-box sides across it that
- * bound that range (both where they coincide). 1 when a piece was appended, 0 when the ranges
- * do not overlap, -1 when out of memory. */
+ * bound that range (both where they coincide); tangential: the sub-pair had no direction (the
+ * surfaces within tol of each other there). 1 when a piece was appended, 0 when the ranges do
+ * not overlap, -1 when out of memory. */
 static int coside_piece(_cb_ssi_piece_set *out, const march_ctx *m, const node *a,
-                        const node *b, const _cb_ssi_coside *r)
+                        const node *b, const _cb_ssi_coside *r, int tangential)
 {
     int dp = r->sp < 2, dq = r->sq < 2; /* the parameter along the side: 1 v, 0 u */
     double a0 = a->box[2 * dp], a1 = a->box[2 * dp + 1];
@@ -997,6 +998,7 @@ static int coside_piece(_cb_ssi_piece_set *out, const march_ctx *m, const node *
         }
     }
     pc.within = 1;
+    pc.tangential = tangential;
     *p = pc;
     return 1;
 }
@@ -1713,7 +1715,8 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
                     reason = 3;
             }
         }
-        if (reason == -1)
+        int touching = reason == -1;
+        if (touching)
             reason = 0; /* nb = 0: only the cosides' pieces */
         if (!reason) {
             st->certified++;
@@ -1723,7 +1726,7 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
                 if (!(act >> k & 1))
                     continue;
                 slong n0 = out->n;
-                int got = coside_piece(out, &mc, a, b, cs + k);
+                int got = coside_piece(out, &mc, a, b, cs + k, touching);
                 if (got < 0)
                     st->nomem = 1;
                 else

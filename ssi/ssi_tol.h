@@ -117,8 +117,9 @@
  * not search that side for boundary roots, nor the strips of the sides across it within
  * CB_SSI_COSIDE_STRIP tol of it in 3D (a root there is the side curve's crossing), and a
  * sub-pair along it without a proved direction whose sub-patches are proved within tol of
- * each other and have no other boundary root has the side's piece for all of its intersection.
- * within_tolerance (a SIDE region per patch pair; the curves not certified). */
+ * each other and have no other boundary root has the side's piece for all of its intersection
+ * (flagged tangential). within_tolerance (a SIDE region per patch pair; the curves not
+ * certified). */
 #define CB_SSI_COSIDE_WIDTH 0.5
 #define CB_SSI_COSIDE_STRIP 0.5
 
