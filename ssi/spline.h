@@ -203,7 +203,8 @@ typedef struct {
     int wide;                  /* 1: the first run stopped at a tangent cluster wider than the
                                   near-node bound (its rest reported over budget) */
     long side_subpairs;        /* certified sub-pairs along a side lying on the other patch's
-                                  (_cb_ssi_coside), whose rules are within tolerance */
+                                  (_cb_ssi_coside), once per such side, whose rules are
+                                  within tolerance */
     long side_pieces;          /* the pieces along such sides among their pieces */
     double side_width;         /* the largest proved gap of those sides */
     double side_box_p[4], side_box_q[4]; /* their parameter boxes, local [0,1]^2 */

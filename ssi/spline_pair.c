@@ -1029,12 +1029,19 @@ static double width(const node *d)
     return fmax(d->box[1] - d->box[0], d->box[3] - d->box[2]);
 }
 
-/* Counts in st a certified sub-pair (a, b) along coside r (its rules decided there, within
- * tolerance), with its boxes (3D: of its piece pc, or of the sub-patches where none) and the
- * side's proved width. */
-static void coside_stats(_cb_ssi_spline_stats *st, const _cb_ssi_piece *pc, const node *a,
-                         const node *b, const _cb_ssi_coside *r)
+/* The certified sub-pair (a, b) along coside r (its rules decided there, within tolerance):
+ * its piece of the side appended to out (coside_piece), and counted in st with its boxes (3D:
+ * of the piece, or of the sub-patches where it has none) and the side's proved width. */
+static void coside_add(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const march_ctx *m,
+                       const node *a, const node *b, const _cb_ssi_coside *r, int tangential)
 {
+    slong n0 = out->n;
+    int got = coside_piece(out, m, a, b, r, tangential);
+    if (got < 0) {
+        st->nomem = 1;
+        return;
+    }
+    const _cb_ssi_piece *pc = got ? out->p + n0 : NULL;
     int first = st->side_subpairs == 0;
     add_box(st->side_box_p, a->box, first);
     add_box(st->side_box_q, b->box, first);
@@ -1722,16 +1729,9 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
             st->certified++;
             march_ctx mc = {P, Q, {e[0], e[1], e[2]}, a->box, b->box, o->tol, o->chord,
                             o->max_seg};
-            for (int k = 0; k < ncs && !st->nomem; k++) {
-                if (!(act >> k & 1))
-                    continue;
-                slong n0 = out->n;
-                int got = coside_piece(out, &mc, a, b, cs + k, touching);
-                if (got < 0)
-                    st->nomem = 1;
-                else
-                    coside_stats(st, got ? out->p + n0 : NULL, a, b, cs + k);
-            }
+            for (int k = 0; k < ncs && !st->nomem; k++)
+                if (act >> k & 1)
+                    coside_add(out, st, &mc, a, b, cs + k, touching);
             if (nb == 2) {
                 const bpt *en = bp[0].entry ? bp : bp + 1, *ex = bp[0].entry ? bp + 1 : bp;
                 st->branches++;

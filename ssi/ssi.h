@@ -261,9 +261,10 @@ typedef struct {
  *   NEAR_NODE    curve ends that the certified graphs could not tell apart or join (several
  *                candidates within their bounds on a patch side, or ends on no side) whose 3D
  *                box has diameter width <= tol: joined at one node (the first end's point);
- *   CONTACT_BAND surfaces proved within tol of each other over a region wider than tol (width
- *                its diameter, up to 1000 tol): a contact band, or a near-tangent node or cusp
- *                (the subdivision route's tangent regions);
+ *   CONTACT_BAND surfaces proved within tol of each other over a region wider than tol, width
+ *                its diameter (the subdivision route's tangent regions): up to 1000 tol where
+ *                branch ends join at one point of it (a near-tangent node or cusp), any where a
+ *                tangential curve is traced along it (the valley of the distance);
  *   SIDE         a side of a patch of A lying on a side of a patch of B (two faces sharing an
  *                edge): the curve along it is that side, its points within width (<= tol / 2,
  *                proved) of both surfaces; boundary roots within tol / 2 of it on the sides
