@@ -1135,8 +1135,7 @@ static int tiny_add(_cb_ssi_tiny_set *ts, const node *a, const node *b, const _c
         double Y[3], Z[3];
         _cb_ssi_bez_eval(Y, d1, d2, P, y[0], y[1]);
         foot_on(y + 2, Z, Q, Y);
-        double g = sqrt((Y[0] - Z[0]) * (Y[0] - Z[0]) + (Y[1] - Z[1]) * (Y[1] - Z[1]) +
-                        (Y[2] - Z[2]) * (Y[2] - Z[2]));
+        double g = cb_vec3_dist(Y, Z);
         if (k == 0 || g < t->gap) {
             t->gap = g;
             memcpy(x, y, sizeof x);

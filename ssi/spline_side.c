@@ -200,6 +200,13 @@ int _cb_ssi_cosides_find(_cb_ssi_coside *out, int cap, const _cb_ssi_bez *P, con
                     }
             if (!(t[1] - t[0] > MIN_RANGE) || !(fabs(m[1] - m[0]) > MIN_RANGE))
                 continue;
+            /* A side collapsed to a point (a pole) is no curve: the range's ends more than tol
+             * apart in 3D. */
+            double X0[3], X1[3], D[3];
+            side_eval(X0, D, P, sp, t[0]);
+            side_eval(X1, D, P, sp, t[1]);
+            if (!(cb_vec3_dist(X0, X1) > tol))
+                continue;
             double w = side_gap(P, sp, Q, sq, t[0], t[1], m[0], m[1]);
             if (!(w <= CB_SSI_COSIDE_WIDTH * tol))
                 continue;
