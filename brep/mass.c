@@ -1090,6 +1090,92 @@ cb_status cb_mass_body(cb_mass_props *m, const cb_topo_body *b, double rel_tol, 
     return CB_OK;
 }
 
+/* Half the integral of (x - c) x dx over [t0, t1] of curve cu, 5-point Gauss-Legendre on the
+ * interval against its two halves, halved where they differ by more than eps (kinks of a
+ * B-spline's derivatives), to depth 24. */
+static void cross_integral(double out[3], const cb_topo_curve *cu, double t0, double t1,
+                           const double c[3], double eps, int depth)
+{
+    static const double X[5] = {0, -0.5384693101056831, 0.5384693101056831,
+                                -0.9061798459386640, 0.9061798459386640};
+    static const double W[5] = {0.5688888888888889, 0.4786286704993665, 0.4786286704993665,
+                                0.2369268850561891, 0.2369268850561891};
+    double whole[3] = {0, 0, 0}, halves[3] = {0, 0, 0};
+    for (int part = 0; part < 3; part++) {
+        double a = part == 0 ? t0 : part == 1 ? t0 : 0.5 * (t0 + t1);
+        double z = part == 0 ? t1 : part == 1 ? 0.5 * (t0 + t1) : t1;
+        double *acc = part == 0 ? whole : halves;
+        for (int i = 0; i < 5; i++) {
+            double d[3][3], r[3], xr[3];
+            cb_topo_curve_eval_derivs(d, cu, 0.5 * (a + z) + 0.5 * (z - a) * X[i]);
+            for (int q = 0; q < 3; q++)
+                r[q] = d[0][q] - c[q];
+            cb_vec3_cross(xr, r, d[1]);
+            for (int q = 0; q < 3; q++)
+                acc[q] += 0.25 * (z - a) * W[i] * xr[q];
+        }
+    }
+    double diff[3] = {whole[0] - halves[0], whole[1] - halves[1], whole[2] - halves[2]};
+    if (depth < 24 && cb_vec3_norm(diff) > eps) {
+        double lo[3], hi[3];
+        cross_integral(lo, cu, t0, 0.5 * (t0 + t1), c, 0.5 * eps, depth + 1);
+        cross_integral(hi, cu, 0.5 * (t0 + t1), t1, c, 0.5 * eps, depth + 1);
+        for (int q = 0; q < 3; q++)
+            out[q] = lo[q] + hi[q];
+        return;
+    }
+    memcpy(out, halves, sizeof halves);
+}
+
+cb_status cb_mass_area(double *area, const cb_topo_body *b, double rel_tol, cb_context *ctx,
+                       cb_error *err)
+{
+    *area = 0;
+    cb_status st = check_tol(&rel_tol, err);
+    if (st)
+        return st;
+    double c[3], scale, sum = 0;
+    reference(c, &scale, b);
+    for (int k = 0; k < b->n_shells; k++) {
+        double qs[NQ] = {0};
+        if ((st = shell_sums(qs, b, k, 0, c, scale, rel_tol, ctx, err)))
+            return st;
+        sum += qs[QA];
+        /* Stokes: the faces' vector area (the integral of n dA) is half the integral of
+         * x x dx round their free boundary, the edges used once, each the way its coedge
+         * runs (0 for a closed shell). A face integrated over the wrong region of its surface
+         * breaks it, as cb_mass_closure_bound says for closed shells. */
+        const cb_topo_shell *sh = &b->shells[k];
+        double bd[3] = {0, 0, 0}, len = 0;
+        for (int f = sh->first; f < sh->first + sh->count; f++)
+            for (int l = b->faces[f].first; l < b->faces[f].first + b->faces[f].count; l++)
+                for (int i = b->loops[l].first; i < b->loops[l].first + b->loops[l].count; i++) {
+                    int e = b->coedges[i].edge;
+                    const cb_topo_edge *ed = &b->edges[e];
+                    len += cb_topo_edge_length(b, e) * fmax(b->tol, ed->tol);
+                    if (b->edge_start[e + 1] - b->edge_start[e] != 1)
+                        continue;
+                    double v[3];
+                    cross_integral(v, &b->curves[ed->curve], ed->t0, ed->t1, c,
+                                   1e-12 * scale * scale, 0);
+                    double sg = (ed->same_sense != 0) == (b->coedges[i].sense != 0) ? 1 : -1;
+                    for (int q = 0; q < 3; q++)
+                        bd[q] += sg * v[q];
+                }
+        double off[3] = {qs[QNX] - bd[0], qs[QNY] - bd[1], qs[QNZ] - bd[2]};
+        double allow = len + 1e-9 * fabs(qs[QA]);
+        if (!(cb_vec3_norm(off) <= allow))
+            return cb_error_set(err, CB_ERR_NUMERIC,
+                                "mass: shell %d: the faces' integrated normals do not match its "
+                                "boundary (off by %.3g, the edges' tolerances allow %.3g): a "
+                                "face integrated over the wrong region, the area %.10g not to "
+                                "be trusted",
+                                k, cb_vec3_norm(off), allow, qs[QA]);
+    }
+    *area = sum;
+    return CB_OK;
+}
+
 double cb_mass_closure_bound(const cb_topo_body *b, double area, int edge_tols)
 {
     double s = 0;

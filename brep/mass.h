@@ -95,6 +95,17 @@ cb_status cb_mass_shell(cb_mass_props *m, const cb_topo_body *b, int k, double r
 cb_status cb_mass_body(cb_mass_props *m, const cb_topo_body *b, double rel_tol, cb_context *ctx,
                        cb_error *err);
 
+/* The area of every face of every shell of body b, open or closed (rel_tol as above): what a
+ * surface model (shells that bound no volume, which cb_mass_body refuses) has of mass
+ * properties. Preconditions and errors those of cb_mass_shell but the closedness; and per
+ * shell the check Stokes' theorem gives (the vector area of its faces is half the integral of
+ * x x dx round its free edges, those used once, each the way its coedge runs; zero for a
+ * closed shell), within twice the edges' tolerances times their length plus 1e-9 of the area:
+ * CB_ERR_NUMERIC, naming the shell, where a face was integrated over the wrong region of its
+ * surface. *area is 0 on error. */
+cb_status cb_mass_area(double *area, const cb_topo_body *b, double rel_tol, cb_context *ctx,
+                       cb_error *err);
+
 /* The largest vector area (cb_mass_props.vector_area) body b's closed shells may leave: each
  * edge's two faces meet within the edge's tolerance of it, so twice the tolerance times the
  * edges' length, plus 1e-9 of the area for rounding. The tolerance is b->tol, or each edge's

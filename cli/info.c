@@ -35,7 +35,8 @@ static const char INFO_USAGE[] =
     "             problems (list of strings), the largest deviations measured,\n"
     "             edges_tol_raised, edges_over_cap, max_edge_tol, edge_tol_cap, volume and\n"
     "             area (model units^3 and ^2; null when they are not integrated, the reason\n"
-    "             then in mass_error, else null)\n"
+    "             then in mass_error, else null; a surface model, open shells and no\n"
+    "             solid, has its area and a null volume)\n"
     "  --tol T    validation tolerance in model units (default: the file's uncertainty);\n"
     "             each edge is checked against the larger of T and its own tolerance\n"
     "  --no-mass  skip the volume and area (they take about a second on a few dozen\n"
@@ -113,6 +114,7 @@ static int info_bpt(const char *path, int json)
 /* Volume and area of a body, or why they could not be integrated. */
 typedef struct {
     int ok, skipped; /* skipped: --no-mass */
+    int sheets;      /* ok, a surface model: open shells only, which bound no volume */
     double volume, area; /* model units^3, ^2 */
     char error[CB_ERROR_MSG_LEN];
 } info_mass;
@@ -138,6 +140,18 @@ static void info_mass_compute(info_mass *m, const cb_topo_body *b)
     m->ok = st == CB_OK && isfinite(p.volume) && isfinite(p.area);
     m->volume = m->ok ? p.volume : 0;
     m->area = m->ok ? p.area : 0;
+    m->sheets = 0;
+    /* A surface model (no solid, no shell declared closed): its faces' area, no volume. */
+    int sheets = st != CB_OK && b->n_solids == 0 && b->n_shells > 0;
+    for (int k = 0; k < b->n_shells && sheets; k++)
+        sheets = !b->shells[k].closed;
+    if (sheets) {
+        cb_error_clear(&err);
+        double area;
+        st = cb_mass_area(&area, b, INFO_MASS_REL_TOL, NULL, &err);
+        m->ok = m->sheets = st == CB_OK && isfinite(area);
+        m->area = m->ok ? area : 0;
+    }
     snprintf(m->error, sizeof m->error, "%s",
              m->ok ? "" : st ? err.msg : "mass: the integrals are not finite");
 }
@@ -183,6 +197,10 @@ static void print_step_json(const char *path, const cb_topo_body *b, const cb_aa
            "\"edge_tol_cap\": %.17g, ",
            r->dropped, r->max_edge_surface, r->max_loop_gap, r->max_edge_vertex,
            ts->edges_tol_raised, ts->edges_over_cap, ts->max_edge_tol, ts->edge_tol_cap);
+    if (m->ok && m->sheets) {
+        printf("\"volume\": null, \"area\": %.17g, \"mass_error\": null}\n", m->area);
+        return;
+    }
     if (m->ok) {
         printf("\"volume\": %.17g, \"area\": %.17g, \"mass_error\": null}\n", m->volume, m->area);
         return;
@@ -198,6 +216,9 @@ static void print_mass_text(const info_mass *m, double unit_mm)
     const char *unit = unit_name(unit_mm);
     if (!m->ok)
         printf("volume, area: not integrated (%s)\n", m->error);
+    else if (m->sheets)
+        printf("volume: none (a surface model: open shells), area %.10g %s^2\n", m->area,
+               unit ? unit : "units");
     else if (unit)
         printf("volume %.10g %s^3, area %.10g %s^2\n", m->volume, unit, m->area, unit);
     else
@@ -264,7 +285,7 @@ static int info_step(const char *path, int json, double tol, int mass)
     }
     cb_aabb box;
     cb_topo_body_edge_box(&box, b);
-    info_mass m = {0, 1, 0, 0, "not computed (--no-mass)"};
+    info_mass m = {0, 1, 0, 0, 0, "not computed (--no-mass)"};
     if (mass)
         info_mass_compute(&m, b);
     if (json)
