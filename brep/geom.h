@@ -53,6 +53,33 @@ static inline double cb_seg3_nearest(double *lambda, const double a[3], const do
     return cb_vec3_dist(q, p);
 }
 
+/* 1 when the segment a-b meets the axis-aligned box [lo, hi] grown by slack (the segment
+ * clipped slab by slab). */
+static inline int cb_seg3_meets_box(const double a[3], const double b[3], const double lo[3],
+                                    const double hi[3], double slack)
+{
+    double t0 = 0, t1 = 1;
+    for (int q = 0; q < 3; q++) {
+        double l = lo[q] - slack, h = hi[q] + slack, d = b[q] - a[q];
+        if (d == 0) {
+            if (a[q] < l || a[q] > h)
+                return 0;
+            continue;
+        }
+        double ta = (l - a[q]) / d, tb = (h - a[q]) / d;
+        if (ta > tb) {
+            double w = ta;
+            ta = tb;
+            tb = w;
+        }
+        t0 = ta > t0 ? ta : t0;
+        t1 = tb < t1 ? tb : t1;
+        if (t0 > t1)
+            return 0;
+    }
+    return 1;
+}
+
 /* Barycentric coordinates (b1, b2) of the foot of x on the plane of the triangle a b c: the foot
  * is a + b1 (b - a) + b2 (c - a), inside the triangle when b1 >= 0, b2 >= 0, b1 + b2 <= 1.
  * Returns the distance from x to that plane, or -1 for a degenerate triangle (b1, b2 unset). */

@@ -252,6 +252,15 @@ typedef struct {
                     parameter floor or over the budget): a region meeting it stays open */
 } _cb_ssi_tiny;
 
+/* 1 when the 3D boxes of a and b meet within slack. */
+static inline int _cb_ssi_tiny_meet(const _cb_ssi_tiny *a, const _cb_ssi_tiny *b, double slack)
+{
+    for (int q = 0; q < 3; q++)
+        if (a->hi[q] + slack < b->lo[q] || b->hi[q] + slack < a->lo[q])
+            return 0;
+    return 1;
+}
+
 typedef struct {
     slong n, alloc;
     _cb_ssi_tiny *t;
@@ -265,14 +274,16 @@ void _cb_ssi_tiny_set_clear(_cb_ssi_tiny_set *ts);
  * (|P - Q| <= tol / 100), uv / st in the patches' domains (P->dom, Q->dom), chords within chord
  * and max_seg. Sub-pairs are split until certified, or until both sub-patches are within tol / 8
  * in 3D, or within 8 tol and proved within tol of each other, which are appended to tiny (with
- * job) for _cb_ssi_tiny_resolve; those at the parameter floor or over the budget are
- * uncertified. Deterministic (serial inside). */
+ * job) for _cb_ssi_tiny_resolve (with the pieces of the sides lying on each other that both
+ * sub-patches reach, _cb_ssi_coside, flagged tangential); those at the parameter floor or over
+ * the budget are uncertified. Deterministic (serial inside). */
 void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *stats, const _cb_ssi_bez *P,
                          const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o,
                          _cb_ssi_tiny_set *tiny, int job);
 
 /* 1 when a cluster of tiny (as _cb_ssi_tiny_resolve groups them) is wider than the near-node
- * bound (WT_MAX_TOL tol) and holds an end of a piece of pieces: a branch running into what
+ * bound (WT_MAX_TOL tol) and holds an end of a piece of pieces (not of a side's piece, which
+ * runs on through the members reaching it): a branch running into what
  * the band run left as a band (a near-tangent node or cusp seen coarsely), which that rule
  * refuses; 0 when none is, -1 when out of memory. */
 int _cb_ssi_tiny_wide_end(const _cb_ssi_piece_set *pieces, const _cb_ssi_tiny_set *tiny,
@@ -298,14 +309,18 @@ typedef struct {
  * (of every pair) in its box grown by tol move onto one point of both surfaces in it (a member's
  * candidate whose surface points are within tol; with none the cluster is not resolved),
  * pieces lying wholly in it are dropped, and with no end it gives one isolated contact point
- * (appended to the set of its first member's pair). A larger cluster is not resolved: bad[k]
+ * (appended to the set of its first member's pair); two pieces of sides lying on the other
+ * surface from its point to one patch corner (the node where those sides cross, just outside
+ * its box, within its diameter) are dropped as well. A larger cluster is not resolved: bad[k]
  * is set for each pair k with a member in it, and unres[k] counts them. Per resolved region:
  * *regions, *nodes (of them with branch ends), *width (largest diameter), and a record in *out
  * (*nout of them, malloc'd, the caller frees; NULL when none) whose index the moved piece ends
  * (and the contact point) carry in _cb_ssi_end.region, so stitching joins them; within[k] is
  * set for every pair k with a member in a resolved region or a piece end moved. A cluster
  * wider than 1000 tol with every member proved within tol, that meets no sub-pair left
- * uncertified and holds no piece end (in a member's box grown by tol), is a contact band: its
+ * uncertified and holds no piece end (in a member's box grown by tol; the pieces of a side
+ * lying on the other surface, which run on through the members reaching it, not counted), is
+ * a contact band: its
  * curves are the valley of the distance (_cb_ssi_band_trace on P and Q, the whole surfaces
  * whose domains the pieces' parameters are in; NULL: not tried), appended to the set of its
  * first member's pair, the region recorded (no node, ends 0). -1 when out of memory. */
@@ -317,22 +332,30 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
 
 /* The curves of a contact band (ssi_band.c): the m[0 .. nm) members of one cluster of sub-pairs
  * proved within tol of each other (slab_within), P and Q the whole B-spline surfaces (uv, st of
- * the members in their domains). The rule (tolerance-certificates.md section 2, "the curve
- * reported inside it is the minimum of the distance"): with D(u, v) the signed distance of
- * P(u, v) from its foot on Q along Q's normal, the curve is the valley of D, the points where
- * D's derivative across the valley (along the eigenvector of D's Hessian of largest eigenvalue)
- * is 0, traced from a member's point by steps along the valley, each point settled onto it by
- * Newton's method across it, the chords within chord (sagitta, by the settled midpoint) and
- * max_seg; a curve ends where it closes, on a side of P's domain (that parameter held, its
- * `fixed` bit set), or where Q's domain ends. Checked, or 0 (not resolved): every point within
- * tol of both surfaces (|D| <= tol) and in a member's box grown by tol (in the region proved
- * within tol), every member's valley point within 2 chord + 10 tol of a traced curve (a member
- * off every curve seeds another; at most 16). Not proved: that the valley is unique between
- * the points, or that the surfaces touch there (a near miss within tol reads as a tangential
- * curve). On success the curves are appended to out as tangential pieces flagged within
- * (stitching marks their curves not certified); 1, 0 not resolved (out may hold part of the
- * curves: the caller drops them), -1 out of memory. Only B-spline P and Q (0 otherwise). */
-int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const cb_ssi_surface *P, const cb_ssi_surface *Q,
+ * the members in their domains), sets[0 .. nsets) the pieces of all patch pairs (for the sides
+ * of P lying on sides of Q: their pieces, `side`). The rule (tolerance-certificates.md
+ * section 2, "the curve reported inside it is the minimum of the distance"): with D(u, v) the
+ * signed distance of P(u, v) from its foot on Q along Q's normal, the curve is the valley of D,
+ * the points where D's derivative across the valley (along the eigenvector of D's Hessian of
+ * largest eigenvalue) is 0, traced from a member's point by steps along the valley, each point
+ * settled onto it by Newton's method across it, the chords within chord (sagitta, by the
+ * settled midpoint) and max_seg; a curve ends where it closes, on a side of P's domain (that
+ * parameter held, its `fixed` bit set; on a side lying on Q, where D vanishes along the side,
+ * where it meets it), or where Q's domain ends. Members that a side's piece crosses (their box
+ * grown by 2 chord + 10 tol) have that side for their curve: they seed none. Checked, or 0 (not
+ * resolved): every point within tol of both surfaces (|D| <= tol) and in a member's box grown
+ * by tol (in the region proved within tol), every member's valley point within 2 chord + 10 tol
+ * of a traced curve or on a side lying on Q (a member off every curve seeds another; at most
+ * 16); a member without a valley point (Newton's method not converging, or no valley followed
+ * from it: beside a node, where the valley is not defined) crossed by a curve or a side's
+ * piece, or its box meeting (within tol) that of a member so crossed: the region left to the
+ * curves there is one member wide. Not proved: that the valley is unique between the points,
+ * or that the surfaces touch there (a near miss within tol reads as a tangential curve). On
+ * success the curves are appended to out as tangential pieces flagged within (stitching marks
+ * their curves not certified); 1, 0 not resolved (out may hold part of the curves: the caller
+ * drops them), -1 out of memory. Only B-spline P and Q (0 otherwise). */
+int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const _cb_ssi_piece_set *sets, slong nsets,
+                       const cb_ssi_surface *P, const cb_ssi_surface *Q,
                        const _cb_ssi_tiny *const *m, slong nm, double tol, double chord,
                        double max_seg);
 

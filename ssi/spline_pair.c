@@ -998,6 +998,7 @@ static int coside_piece(_cb_ssi_piece_set *out, const march_ctx *m, const node *
         }
     }
     pc.within = 1;
+    pc.side = 1;
     pc.tangential = tangential;
     *p = pc;
     return 1;
@@ -1165,45 +1166,11 @@ static int tiny_find(_cb_ssi_tiny *t, int k)
     return k;
 }
 
-static int boxes_meet(const _cb_ssi_tiny *a, const _cb_ssi_tiny *b, double slack)
-{
-    for (int q = 0; q < 3; q++)
-        if (a->hi[q] + slack < b->lo[q] || b->hi[q] + slack < a->lo[q])
-            return 0;
-    return 1;
-}
-
 static int in_box(const double X[3], const double lo[3], const double hi[3], double slack)
 {
     for (int q = 0; q < 3; q++)
         if (X[q] < lo[q] - slack || X[q] > hi[q] + slack)
             return 0;
-    return 1;
-}
-
-/* 1 when the segment from X to Y meets the box grown by slack (clipped slab by slab). */
-static int seg_meets_box(const double X[3], const double Y[3], const double lo[3],
-                         const double hi[3], double slack)
-{
-    double t0 = 0, t1 = 1;
-    for (int q = 0; q < 3; q++) {
-        double a = lo[q] - slack, b = hi[q] + slack, d = Y[q] - X[q];
-        if (d == 0) {
-            if (X[q] < a || X[q] > b)
-                return 0;
-            continue;
-        }
-        double ta = (a - X[q]) / d, tb = (b - X[q]) / d;
-        if (ta > tb) {
-            double w = ta;
-            ta = tb;
-            tb = w;
-        }
-        t0 = fmax(t0, ta);
-        t1 = fmin(t1, tb);
-        if (t0 > t1)
-            return 0;
-    }
     return 1;
 }
 
@@ -1223,7 +1190,8 @@ static int band_has_end(const _cb_ssi_piece_set *sets, slong nsets, _cb_ssi_tiny
     for (slong k = 0; k < nsets; k++)
         for (slong q = 0; q < sets[k].n; q++) {
             const _cb_ssi_piece *pc = sets[k].p + q;
-            if (pc->n < 1 || pc->closed)
+            /* A coside's pieces continue through the members that reach it. */
+            if (pc->n < 1 || pc->closed || pc->side)
                 continue;
             for (int e = 0; e < 2; e++) {
                 const double *X = pc->xyz + 3 * (e ? pc->n - 1 : 0);
@@ -1274,7 +1242,7 @@ static int tiny_clusters(slong *root, const _cb_ssi_tiny *t, slong n, double tol
     qsort(key, (size_t)n, sizeof *key, cmp_lo_key);
     for (slong a = 0; a < n; a++)
         for (slong b = a + 1; b < n && key[b].x <= t[key[a].i].hi[0] + 0.1 * tol; b++)
-            if (boxes_meet(t + key[a].i, t + key[b].i, 0.1 * tol)) {
+            if (_cb_ssi_tiny_meet(t + key[a].i, t + key[b].i, 0.1 * tol)) {
                 slong ra = key_find(root, key[a].i), rb = key_find(root, key[b].i);
                 if (ra != rb)
                     root[ra > rb ? ra : rb] = ra < rb ? ra : rb;
@@ -1356,6 +1324,45 @@ int _cb_ssi_tiny_wide_end(const _cb_ssi_piece_set *pieces, const _cb_ssi_tiny_se
     return found;
 }
 
+/* Two sides lying on the other surface (_cb_ssi_coside) cross at a patch corner, a node of
+ * the intersection; where the surfaces stay within tol around it, the region rid resolved
+ * beside it (box lo, hi) may leave the corner just outside its box: the two sides' pieces from
+ * the region's point to the corner (one end moved onto the point, the other the corner's
+ * vertex, within grow of the box) are then a loop through the node's own region, dropped; the
+ * sides run on from the region's point. Returns the number of ends dropped so. */
+static int corner_loops(_cb_ssi_piece_set *sets, slong nsets, slong rid, const double lo[3],
+                        const double hi[3], double grow)
+{
+    int dropped = 0;
+    for (slong k = 0; k < nsets; k++) {
+        _cb_ssi_piece_set *out = sets + k;
+        for (slong q = 0; q < out->n; q++) {
+            const _cb_ssi_piece *a = out->p + q;
+            int ea = a->end[0].region == rid ? 1 : a->end[1].region == rid ? 0 : -1;
+            if (!a->side || ea < 0 || a->end[ea].vid < 0 || a->end[!ea].region != rid ||
+                !in_box(a->xyz + 3 * (ea ? a->n - 1 : 0), lo, hi, grow))
+                continue;
+            for (slong r = q + 1; r < out->n; r++) {
+                const _cb_ssi_piece *b = out->p + r;
+                int eb = b->end[0].region == rid ? 1 : b->end[1].region == rid ? 0 : -1;
+                if (!b->side || eb < 0 || b->end[eb].vid != a->end[ea].vid ||
+                    b->end[!eb].region != rid)
+                    continue;
+                /* r first: it lies after q. */
+                _cb_ssi_piece_clear(out->p + r);
+                memmove(out->p + r, out->p + r + 1, (size_t)(out->n - r - 1) * sizeof *out->p);
+                _cb_ssi_piece_clear(out->p + q);
+                memmove(out->p + q, out->p + q + 1, (size_t)(out->n - q - 2) * sizeof *out->p);
+                out->n -= 2;
+                q--;
+                dropped += 2;
+                break;
+            }
+        }
+    }
+    return dropped;
+}
+
 int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tiny_set *tiny,
                          char *bad, long *unres, double tol, long *regions, long *nodes,
                          double *width, _cb_ssi_tiny_region **out, slong *nout, char *within,
@@ -1423,7 +1430,8 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
                 for (slong i = c; i < nt; i++)
                     if (tiny_find(t, (int)i) == c)
                         m[nm++] = t + i;
-                traced = _cb_ssi_band_trace(sets + t[c].job, P, Q, m, nm, tol, chord, max_seg);
+                traced = _cb_ssi_band_trace(sets + t[c].job, sets, nsets, P, Q, m, nm, tol, chord,
+                                            max_seg);
                 free(m);
             }
             if (traced > 0 && *nout == alloc_out) {
@@ -1536,10 +1544,10 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
                 for (slong i = 0; i < pc->n && inside; i++)
                     inside = in_box(pc->xyz + 3 * i, lo, hi, tol);
                 /* The polyline's vertices may all lie outside a region its chords cross. */
-                for (slong i = 0; i < pc->n && !touched; i++)
-                    touched = i + 1 < pc->n
-                                  ? seg_meets_box(pc->xyz + 3 * i, pc->xyz + 3 * (i + 1), lo, hi, tol)
-                                  : in_box(pc->xyz + 3 * i, lo, hi, tol);
+                for (slong i = 0; i < pc->n && !touched; i++) {
+                    const double *A = pc->xyz + 3 * i, *B = i + 1 < pc->n ? A + 3 : A;
+                    touched = cb_seg3_meets_box(A, B, lo, hi, tol);
+                }
                 if (inside) {
                     _cb_ssi_piece_clear(pc);
                     memmove(pc, pc + 1, (size_t)(out->n - q - 1) * sizeof *pc);
@@ -1561,6 +1569,7 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
                 }
             }
         }
+        ends -= corner_loops(sets, nsets, rid, lo, hi, diam);
         /* No end and no branch through it: one isolated contact point, unless it lies
          * near a region branches end in (below). A region a branch runs through or beside
          * (surfaces crossing at a small angle near it) is that branch's. */
@@ -1757,6 +1766,13 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *st, const
                 break;
             }
             st->unresolved++;
+            /* The cosides it reaches are curves of the intersection whatever its region is
+             * resolved as: their pieces continue the side through it (a region's rule moves
+             * or drops them as any other piece; a contact band's valley ends on them). */
+            march_ctx mc = {P, Q, {0, 0, 0}, a->box, b->box, o->tol, o->chord, o->max_seg};
+            for (int k = 0; k < ncs && !st->nomem; k++)
+                if (act >> k & 1)
+                    coside_add(out, st, &mc, a, b, cs + k, 1);
             continue;
         }
         /* Split the larger sub-patch that is above the floor. */

@@ -454,7 +454,9 @@ typedef struct {
     double *xyz;   /* 3 n: midpoints of P(uv) and Q(st) */
     double gap;    /* largest |P(uv) - Q(st)| over the points */
     int closed, tangential, isolated;
-    int within; /* the valley of a contact band (ssi_band.c): a curve within tolerance */
+    int within; /* a curve within tolerance: the valley of a contact band (ssi_band.c), or
+                   side below */
+    int side;   /* a piece of a side of P lying on a side of Q (_cb_ssi_coside) */
     _cb_ssi_end end[2]; /* first and last point (an isolated point: end[0]) */
 } _cb_ssi_piece;
 

@@ -16,10 +16,19 @@
 #define MAX_POINTS 100000
 #define MAX_CURVES 16
 
+/* A side of P lying on a side of Q (_cb_ssi_coside), as one of its pieces gives it: P's
+ * parameter k held at c, the other over [lo, hi] (P's domain). */
+typedef struct {
+    int k;
+    double c, lo, hi;
+} sline;
+
 typedef struct {
     const cb_nurbs_surface_struct *P, *Q;
     double dp[4], dq[4]; /* parameter domains */
     double tol, chord, max_seg;
+    sline *sl; /* the sides lying on Q, from the pieces */
+    slong nsl;
 } band;
 
 /* A point of P, its foot on Q and the distance's derivatives there. */
@@ -134,11 +143,41 @@ static void across(double e[2], double *lam, const double H[2][2])
     *lam = l;
 }
 
+/* 1 when p is held on a side of P's domain where a side of P lies on Q (the side's own
+ * pieces are the curve there). */
+static int on_coside(const band *b, const vpt *p)
+{
+    for (slong i = 0; i < b->nsl; i++) {
+        const sline *l = b->sl + i;
+        int k = l->k;
+        double w = b->dp[2 * k + 1] - b->dp[2 * k], eps = 1e-12 * w;
+        if ((p->fixed >> k & 1u) && fabs(p->uv[k] - l->c) <= eps && p->uv[!k] >= l->lo - eps &&
+            p->uv[!k] <= l->hi + eps)
+            return 1;
+    }
+    return 0;
+}
+
+/* p on a side of P lying on Q: its point X, the foot Y on Q (on Q's side, where X may lie just
+ * beyond it) and D = |X - Y|. 1 when D <= tol, 0 otherwise. */
+static int side_eval(const band *b, vpt *p)
+{
+    double dq[6][3];
+    cb_nurbs_surface_eval(p->X, b->P, p->uv[0], p->uv[1]);
+    if (!isfinite(_cb_ssi_nurbs_project(p->st, b->Q, p->X, 1)))
+        return 0;
+    cb_nurbs_surface_eval_derivs(dq, b->Q, p->st[0], p->st[1]);
+    memcpy(p->Y, dq[0], sizeof p->Y);
+    p->D = cb_vec3_dist(p->X, p->Y);
+    return p->D <= b->tol;
+}
+
 /* Moves p onto the valley of D: Newton on dD/de = 0 along the direction e across the valley
  * (Hessian's eigenvector of largest eigenvalue), or along P's free parameter when the other is
  * held on a side of P's domain (p->fixed; a step past a side lands on it and holds it). 1 when
- * it converged with |D| <= tol; -1 when the foot left Q's domain; 0 otherwise (no valley, no
- * convergence, not within tol). */
+ * it converged with |D| <= tol; 2 when a step landed on a side of P lying on Q (on_coside),
+ * held there, within tol of Q (side_eval); -1 when the foot left Q's domain; 0 otherwise (no
+ * valley, no convergence, not within tol). */
 static int settle(const band *b, vpt *p)
 {
     const double wp[2] = {b->dp[1] - b->dp[0], b->dp[3] - b->dp[2]};
@@ -171,6 +210,16 @@ static int settle(const band *b, vpt *p)
                 n[k] = clampd(n[k], b->dp[2 * k], b->dp[2 * k + 1]);
                 p->fixed |= 1u << k;
             }
+        if (p->fixed) {
+            /* A side of P lying on Q: D vanishes along it, the valley ends where it meets it. */
+            vpt q = *p;
+            q.uv[0] = n[0];
+            q.uv[1] = n[1];
+            if (on_coside(b, &q)) {
+                *p = q;
+                return side_eval(b, p) ? 2 : 0;
+            }
+        }
         if (p->fixed == 3u) {
             p->uv[0] = n[0];
             p->uv[1] = n[1];
@@ -236,7 +285,9 @@ static int in_members(const double X[3], const _cb_ssi_tiny *const *m, slong nm,
 /* Traces the valley from the settled point s in direction sgn (+1, -1 along the valley's
  * tangent turned to s's) into l (s first). Returns 2 when it came back to s (closed; s is
  * appended again), 1 when it ended on a side of P's domain or where Q ends, 0 when it failed,
- * -1 out of memory. */
+ * -1 out of memory. On a side of P lying on Q, where D vanishes along the side and the valley
+ * meets it, the last point is where the step or Newton's method put it on the side, within tol
+ * of Q there (side_eval; its chord's midpoint checked as it is, within tol). */
 static int walk(vline *l, const band *b, const vpt *s, int sgn, const _cb_ssi_tiny *const *m,
                 slong nm, double *trav)
 {
@@ -299,18 +350,36 @@ static int walk(vline *l, const band *b, const vpt *s, int sgn, const _cb_ssi_ti
                 nx.fixed = 1u << hit;
                 nx.uv[!hit] = clampd(nx.uv[!hit], b->dp[2 * !hit], b->dp[2 * !hit + 1]);
             }
-            int sn = settle(b, &nx);
+            /* Onto a side of P lying on Q (by the step, or by Newton's method across the
+             * valley): the curve ends there. */
+            int side = hit >= 0 && on_coside(b, &nx), sn;
+            if (side) {
+                sn = side_eval(b, &nx);
+            } else {
+                sn = settle(b, &nx);
+                side = sn == 2;
+                sn = side ? 1 : sn;
+            }
             if (sn != 1) {
                 qside = sn == -1;
                 len *= 0.5;
                 continue;
             }
-            /* The sagitta: the valley point between them against the chord's midpoint. */
+            /* The sagitta: the valley point between them against the chord's midpoint (on the
+             * way to such a side, or where the midpoint settles on one, the chord's midpoint as
+             * it is, if within tol). */
             vpt md = *cur;
             md.fixed = cur->fixed & nx.fixed;
             md.uv[0] = 0.5 * (cur->uv[0] + nx.uv[0]);
             md.uv[1] = 0.5 * (cur->uv[1] + nx.uv[1]);
             int sm = settle(b, &md);
+            if (sm == 2 || (sm != 1 && side)) {
+                md = *cur;
+                md.fixed = 0;
+                md.uv[0] = 0.5 * (cur->uv[0] + nx.uv[0]);
+                md.uv[1] = 0.5 * (cur->uv[1] + nx.uv[1]);
+                sm = side_eval(b, &md);
+            }
             if (sm != 1) {
                 qside = sm == -1;
                 len *= 0.5;
@@ -368,6 +437,19 @@ static double line_dist(const vline *l, const double X[3])
     return best;
 }
 
+/* 1 when the polyline l meets member t's 3D box grown by slack. */
+static int line_meets_box(const vline *l, const _cb_ssi_tiny *t, double slack)
+{
+    double A[3], B[3];
+    for (slong i = 0; i < l->n; i++) {
+        mid3(A, l->p + i);
+        mid3(B, l->p + (i + 1 < l->n ? i + 1 : i));
+        if (cb_seg3_meets_box(A, B, t->lo, t->hi, slack))
+            return 1;
+    }
+    return 0;
+}
+
 static int emit(_cb_ssi_piece_set *out, const vline *l, int closed)
 {
     _cb_ssi_piece *pc = _cb_ssi_piece_set_add(out);
@@ -391,13 +473,66 @@ static int emit(_cb_ssi_piece_set *out, const vline *l, int closed)
     return 0;
 }
 
-int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const cb_ssi_surface *P, const cb_ssi_surface *Q,
+/* The sides lying on Q from the side pieces of sets into b (b->sl malloc'd); -1 when out of
+ * memory. */
+static int side_lines(band *b, const _cb_ssi_piece_set *sets, slong nsets)
+{
+    b->sl = NULL;
+    b->nsl = 0;
+    slong n = 0;
+    for (slong k = 0; k < nsets; k++)
+        for (slong q = 0; q < sets[k].n; q++)
+            n += sets[k].p[q].side && sets[k].p[q].n >= 2;
+    if (n == 0)
+        return 0;
+    b->sl = malloc((size_t)n * sizeof *b->sl);
+    if (!b->sl)
+        return -1;
+    for (slong k = 0; k < nsets; k++)
+        for (slong q = 0; q < sets[k].n; q++) {
+            const _cb_ssi_piece *pc = sets[k].p + q;
+            if (!pc->side || pc->n < 2)
+                continue;
+            const double *a = pc->pt[0].uv, *z = pc->pt[pc->n - 1].uv;
+            /* Along a side one of P's parameters is the side's value at every point. */
+            int k = a[0] == z[0] ? 0 : a[1] == z[1] ? 1 : -1;
+            if (k < 0 || a[!k] == z[!k])
+                continue;
+            sline *l = b->sl + b->nsl++;
+            l->k = k;
+            l->c = a[k];
+            l->lo = fmin(a[!k], z[!k]);
+            l->hi = fmax(a[!k], z[!k]);
+        }
+    return 0;
+}
+
+/* 1 when a side piece of sets meets member t's 3D box grown by slack. */
+static int side_meets_box(const _cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tiny *t,
+                          double slack)
+{
+    for (slong k = 0; k < nsets; k++)
+        for (slong q = 0; q < sets[k].n; q++) {
+            const _cb_ssi_piece *pc = sets[k].p + q;
+            if (!pc->side)
+                continue;
+            for (slong i = 0; i + 1 < pc->n; i++)
+                if (cb_seg3_meets_box(pc->xyz + 3 * i, pc->xyz + 3 * (i + 1), t->lo, t->hi, slack))
+                    return 1;
+        }
+    return 0;
+}
+
+int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const _cb_ssi_piece_set *sets, slong nsets,
+                       const cb_ssi_surface *P, const cb_ssi_surface *Q,
                        const _cb_ssi_tiny *const *m, slong nm, double tol, double chord,
                        double max_seg)
 {
     if (P->kind != CB_SSI_NURBS || Q->kind != CB_SSI_NURBS || nm == 0)
         return 0;
     band b;
+    if (side_lines(&b, sets, nsets))
+        return -1;
     b.P = P->nurbs;
     b.Q = Q->nurbs;
     cb_nurbs_surface_domain(P->nurbs, b.dp);
@@ -406,12 +541,24 @@ int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const cb_ssi_surface *P, const cb
     b.chord = chord;
     b.max_seg = max_seg;
     vline lines[MAX_CURVES], fw = {0, 0, NULL}, bw = {0, 0, NULL};
+    double near = 2 * chord + 10 * tol; /* a point on a traced curve */
     int closed[MAX_CURVES], nl = 0, st = 1;
-    char *done = calloc((size_t)nm, 1);
-    if (!done)
+    /* done[i]: 1 on a curve, 2 valley point past Q's domain, 3 no valley point. crossed[i]: a
+     * side's piece crosses member i, or (once traced) a curve. */
+    char *done = calloc((size_t)nm, 1), *crossed = calloc((size_t)nm, 1);
+    if (!done || !crossed) {
+        free(done);
+        free(crossed);
+        free(b.sl);
         return -1;
+    }
+    for (slong i = 0; i < nm && b.nsl > 0; i++)
+        crossed[i] = side_meets_box(sets, nsets, m[i], near);
     for (slong i = 0; i < nm && st == 1; i++) {
-        if (done[i])
+        /* Crossed by a side lying on Q: that side's pieces are the curve there (where the
+         * surfaces stay within tol beside it, as around a corner where two such sides cross,
+         * or where a band along a tangential curve meets the side). */
+        if (done[i] || crossed[i])
             continue;
         /* The member's valley point: on a traced curve already, or the seed of a new one. */
         vpt s;
@@ -424,15 +571,23 @@ int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const cb_ssi_surface *P, const cb
             done[i] = 2;
             continue;
         }
-        if (sr != 1) {
-            st = 0;
-            break;
-        }
         double S[3];
         mid3(S, &s);
+        if (sr == 2) {
+            /* On a side of P lying on Q: that side's pieces are the curve there. */
+            done[i] = 1;
+            continue;
+        }
+        if (sr != 1) {
+            /* No valley point (Newton not converging where the valley is not defined: beside
+             * a node, where a side's contact strip meets the band): checked once the curves
+             * are traced. */
+            done[i] = 3;
+            continue;
+        }
         int on = 0;
         for (int c = 0; c < nl && !on; c++)
-            on = line_dist(lines + c, S) <= 2 * chord + 10 * tol;
+            on = line_dist(lines + c, S) <= near;
         if (on) {
             done[i] = 1;
             continue;
@@ -446,14 +601,17 @@ int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const cb_ssi_surface *P, const cb
         if (w == 1) {
             /* Open: the other way from the seed too, the two joined at it. */
             int w2 = walk(&bw, &b, &s, -1, m, nm, &trav);
-            if (w2 != 1) {
-                st = w2 < 0 ? -1 : 0;
-                break;
-            }
+            w = w2 < 0 ? -1 : w2 == 1 ? 1 : 0;
         }
-        if (w <= 0) {
-            st = w;
+        if (w < 0) {
+            st = -1;
             break;
+        }
+        if (w == 0) {
+            /* No valley followed from it (beside a node, where the valley is not defined):
+             * as a member without a valley point. */
+            done[i] = 3;
+            continue;
         }
         vline *L = lines + nl;
         L->n = L->alloc = 0;
@@ -481,6 +639,8 @@ int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const cb_ssi_surface *P, const cb
      * and Q exchanged (onto Q's side, held there; where P ends too, as far as it got), on a
      * traced curve. */
     band sw = b;
+    sw.sl = NULL; /* only walks look at the sides (of P) */
+    sw.nsl = 0;
     sw.P = b.Q;
     sw.Q = b.P;
     memcpy(sw.dp, b.dq, sizeof sw.dp);
@@ -500,8 +660,27 @@ int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const cb_ssi_surface *P, const cb
         if (q2 != 0) {
             memcpy(S, s.X, sizeof S);
             for (int c = 0; c < nl && !on; c++)
-                on = line_dist(lines + c, S) <= 2 * chord + 10 * tol;
+                on = line_dist(lines + c, S) <= near;
         }
+        if (!on)
+            st = 0;
+    }
+    /* Members without a valley point (beside a node, where the valley is not defined): a
+     * curve crosses them (a traced one, or a side's piece), or they lie beside a member one
+     * crosses (boxes meeting within tol): the node's region is at most one member wide
+     * around the curves meeting there. */
+    int deferred = 0;
+    for (slong i = 0; i < nm; i++)
+        deferred |= done[i] == 3;
+    for (slong i = 0; i < nm && deferred && st == 1; i++)
+        for (int c = 0; c < nl && !crossed[i]; c++)
+            crossed[i] = line_meets_box(lines + c, m[i], near);
+    for (slong i = 0; i < nm && st == 1; i++) {
+        if (done[i] != 3 || crossed[i])
+            continue;
+        int on = 0;
+        for (slong j = 0; j < nm && !on; j++)
+            on = crossed[j] && _cb_ssi_tiny_meet(m[i], m[j], tol);
         if (!on)
             st = 0;
     }
@@ -513,5 +692,7 @@ int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const cb_ssi_surface *P, const cb
     free(fw.p);
     free(bw.p);
     free(done);
+    free(crossed);
+    free(b.sl);
     return st;
 }
