@@ -16,11 +16,12 @@
  * knot insertion. Keywords and enumerations are read in any case (`Header;`); measures with
  * unit in their simple (4 parameters) and complex (MEASURE_WITH_UNIT part, 2) forms; in
  * strings, \S\c and a lone quote not followed by ',' or ')' are text. Geometry not listed
- * (OFFSET_SURFACE, RECTANGULAR_TRIMMED_SURFACE, DEGENERATE_TOROIDAL_SURFACE, COMPOSITE_CURVE,
- * POLYLINE) is refused with CB_ERR_UNSUPPORTED naming the entity and line, a horn torus as
- * invalid. A
+ * (OFFSET_SURFACE, RECTANGULAR_TRIMMED_SURFACE, COMPOSITE_CURVE, POLYLINE) is refused with
+ * CB_ERR_UNSUPPORTED naming the entity and line, a horn torus as invalid. A
  * TOROIDAL_SURFACE whose major radius is below its minor one (a spindle torus, against the
- * schema's rule, as some systems write a screw head) is read as that torus.
+ * schema's rule, as some systems write a screw head) is read as that torus, and so is a
+ * DEGENERATE_TOROIDAL_SURFACE (the schema's spindle torus; its select_outer, which part the
+ * faces use, is left to their bounds: the parametrisation is the torus's).
  * Entities the mapping does not reach are skipped. A VERTEX_LOOP bound (a pole or an apex
  * inside a face) is skipped too: it carries no edge. A face left with no loop (a whole sphere
  * or torus, written with a VERTEX_LOOP only or with no bound at all) gets the seams and poles

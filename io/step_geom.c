@@ -366,9 +366,15 @@ cb_status step_curve(step_file *f, const step_rec *r, int dim, cb_topo_curve *ou
 
 static cb_status elementary(step_file *f, const step_rec *r, step_type t, cb_topo_surface *s)
 {
-    int nargs = t == STEP_T_PLANE                                             ? 2
-                : t == STEP_T_CONICAL_SURFACE || t == STEP_T_TOROIDAL_SURFACE ? 4
-                                                                              : 3;
+    /* A DEGENERATE_TOROIDAL_SURFACE is a torus whose major radius is below its minor one
+     * (a spindle torus), its fifth argument select_outer saying which of its parts the faces
+     * on it use; the parametrisation is the torus's (ISO 10303-42) and the faces' bounds pick
+     * the part, so it is read as the TOROIDAL_SURFACE of its first four. */
+    int torus = t == STEP_T_TOROIDAL_SURFACE || t == STEP_T_DEGENERATE_TOROIDAL_SURFACE;
+    int nargs = t == STEP_T_PLANE                            ? 2
+                : t == STEP_T_DEGENERATE_TOROIDAL_SURFACE    ? 5
+                : t == STEP_T_CONICAL_SURFACE || torus       ? 4
+                                                             : 3;
     const step_node *a = step_args(f, r, &f->parts[r->part0], nargs);
     if (!a)
         return f->err->status;
@@ -378,8 +384,8 @@ static cb_status elementary(step_file *f, const step_rec *r, step_type t, cb_top
     cb_status st = placement(f, r, x, 3, &fr);
     x = step_next(x);
     if (!st && nargs >= 3)
-        st = step_get_real(f, r, x, t == STEP_T_TOROIDAL_SURFACE ? "major_radius" : "radius", &v1);
-    if (!st && nargs == 4)
+        st = step_get_real(f, r, x, torus ? "major_radius" : "radius", &v1);
+    if (!st && nargs >= 4)
         st = step_get_real(f, r, step_next(x),
                            t == STEP_T_CONICAL_SURFACE ? "semi_angle" : "minor_radius", &v2);
     if (st)
@@ -460,7 +466,8 @@ static cb_status surface_body(step_file *f, const step_rec *r, cb_topo_surface *
     case STEP_T_CYLINDRICAL_SURFACE:
     case STEP_T_CONICAL_SURFACE:
     case STEP_T_SPHERICAL_SURFACE:
-    case STEP_T_TOROIDAL_SURFACE: return elementary(f, r, t, s);
+    case STEP_T_TOROIDAL_SURFACE:
+    case STEP_T_DEGENERATE_TOROIDAL_SURFACE: return elementary(f, r, t, s);
     case STEP_T_SURFACE_OF_REVOLUTION:
     case STEP_T_SURFACE_OF_LINEAR_EXTRUSION: return swept(f, r, t, s);
     default: return step_fail(f, r, NULL, CB_ERR_UNSUPPORTED, "surface type not supported");
