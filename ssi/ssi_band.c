@@ -162,12 +162,10 @@ static int on_coside(const band *b, const vpt *p)
  * beyond it) and D = |X - Y|. 1 when D <= tol, 0 otherwise. */
 static int side_eval(const band *b, vpt *p)
 {
-    double dq[6][3];
     cb_nurbs_surface_eval(p->X, b->P, p->uv[0], p->uv[1]);
     if (!isfinite(_cb_ssi_nurbs_project(p->st, b->Q, p->X, 1)))
         return 0;
-    cb_nurbs_surface_eval_derivs(dq, b->Q, p->st[0], p->st[1]);
-    memcpy(p->Y, dq[0], sizeof p->Y);
+    cb_nurbs_surface_eval(p->Y, b->Q, p->st[0], p->st[1]);
     p->D = cb_vec3_dist(p->X, p->Y);
     return p->D <= b->tol;
 }
@@ -495,14 +493,14 @@ static int side_lines(band *b, const _cb_ssi_piece_set *sets, slong nsets)
                 continue;
             const double *a = pc->pt[0].uv, *z = pc->pt[pc->n - 1].uv;
             /* Along a side one of P's parameters is the side's value at every point. */
-            int k = a[0] == z[0] ? 0 : a[1] == z[1] ? 1 : -1;
-            if (k < 0 || a[!k] == z[!k])
+            int dir = a[0] == z[0] ? 0 : a[1] == z[1] ? 1 : -1;
+            if (dir < 0 || a[!dir] == z[!dir])
                 continue;
             sline *l = b->sl + b->nsl++;
-            l->k = k;
-            l->c = a[k];
-            l->lo = fmin(a[!k], z[!k]);
-            l->hi = fmax(a[!k], z[!k]);
+            l->k = dir;
+            l->c = a[dir];
+            l->lo = fmin(a[!dir], z[!dir]);
+            l->hi = fmax(a[!dir], z[!dir]);
         }
     return 0;
 }
@@ -639,7 +637,7 @@ int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const _cb_ssi_piece_set *sets, sl
      * and Q exchanged (onto Q's side, held there; where P ends too, as far as it got), on a
      * traced curve. */
     band sw = b;
-    sw.sl = NULL; /* only walks look at the sides (of P) */
+    sw.sl = NULL; /* the sides are P's, not those of the roles exchanged */
     sw.nsl = 0;
     sw.P = b.Q;
     sw.Q = b.P;
