@@ -1338,15 +1338,15 @@ static int corner_loops(_cb_ssi_piece_set *sets, slong nsets, slong rid, const d
         _cb_ssi_piece_set *out = sets + k;
         for (slong q = 0; q < out->n; q++) {
             const _cb_ssi_piece *a = out->p + q;
+            /* ea: the end not moved (the other one is on the region's point) */
             int ea = a->end[0].region == rid ? 1 : a->end[1].region == rid ? 0 : -1;
-            if (!a->side || ea < 0 || a->end[ea].vid < 0 || a->end[!ea].region != rid ||
+            if (!a->side || ea < 0 || a->end[ea].vid < 0 ||
                 !in_box(a->xyz + 3 * (ea ? a->n - 1 : 0), lo, hi, grow))
                 continue;
             for (slong r = q + 1; r < out->n; r++) {
                 const _cb_ssi_piece *b = out->p + r;
                 int eb = b->end[0].region == rid ? 1 : b->end[1].region == rid ? 0 : -1;
-                if (!b->side || eb < 0 || b->end[eb].vid != a->end[ea].vid ||
-                    b->end[!eb].region != rid)
+                if (!b->side || eb < 0 || b->end[eb].vid != a->end[ea].vid)
                     continue;
                 /* r first: it lies after q. */
                 _cb_ssi_piece_clear(out->p + r);
