@@ -346,10 +346,12 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
  * resolved): every point within tol of both surfaces (|D| <= tol) and in a member's box grown
  * by tol (in the region proved within tol), every member's valley point within 2 chord + 10 tol
  * of a traced curve or on a side lying on Q (a member off every curve seeds another; at most
- * 16); a member without a valley point (Newton's method not converging, or no valley followed
- * from it: beside a node, where the valley is not defined) crossed by a curve or a side's
- * piece, or its box meeting (within tol) that of a member so crossed: the region left to the
- * curves there is one member wide. Not proved: that the valley is unique between the points,
+ * 16); where P has sides lying on Q, a member without a valley point (Newton's method not
+ * converging, or no valley followed from it: beside the node where the valley meets such a
+ * side, where it is not defined) crossed by a curve or a side's piece, or its box meeting
+ * (within tol) that of a member so crossed: the region left to the curves there is one member
+ * wide; elsewhere (as around an isolated contact, a bowl of D whose valley is any line through
+ * its bottom) such a member leaves the band unresolved. Not proved: that the valley is unique between the points,
  * or that the surfaces touch there (a near miss within tol reads as a tangential curve). On
  * success the curves are appended to out as tangential pieces flagged within (stitching marks
  * their curves not certified); 1, 0 not resolved (out may hold part of the curves: the caller

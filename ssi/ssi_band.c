@@ -576,10 +576,15 @@ int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const _cb_ssi_piece_set *sets, sl
             done[i] = 1;
             continue;
         }
+        if (sr != 1 && b.nsl == 0) {
+            st = 0;
+            break;
+        }
         if (sr != 1) {
             /* No valley point (Newton not converging where the valley is not defined: beside
-             * a node, where a side's contact strip meets the band): checked once the curves
-             * are traced. */
+             * the node where the band meets a side lying on Q): checked once the curves are
+             * traced. Only there: elsewhere, as around an isolated contact (a bowl of D, whose
+             * valley is any line through its bottom), a band with such members is no curve. */
             done[i] = 3;
             continue;
         }
@@ -601,13 +606,13 @@ int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const _cb_ssi_piece_set *sets, sl
             int w2 = walk(&bw, &b, &s, -1, m, nm, &trav);
             w = w2 < 0 ? -1 : w2 == 1 ? 1 : 0;
         }
-        if (w < 0) {
-            st = -1;
+        if (w < 0 || (w == 0 && b.nsl == 0)) {
+            st = w;
             break;
         }
         if (w == 0) {
-            /* No valley followed from it (beside a node, where the valley is not defined):
-             * as a member without a valley point. */
+            /* No valley followed from it (beside a side's node, as above): as a member without
+             * a valley point. */
             done[i] = 3;
             continue;
         }
