@@ -118,6 +118,15 @@ static _cb_iv lerp_iv(_cb_iv a, _cb_iv b, _cb_iv t, _cb_iv omt, int point)
     return _cb_iv_add(a, _cb_iv_mul(t, _cb_iv_sub(b, a)));
 }
 
+/* t x for a point t: _cb_iv_mul's result (its other two products repeat these two), at half
+ * the products: the boundary-root searches evaluate most patches at points. */
+static _cb_iv mul_pt(double t, _cb_iv x)
+{
+    double p0 = t * x.lo, p1 = t * x.hi;
+    _cb_iv r = {_cb_iv_dn(p0 < p1 ? p0 : p1), _cb_iv_up(p0 < p1 ? p1 : p0)};
+    return r;
+}
+
 /* Interval de Casteljau of the d + 1 points c (dim values each, overwritten) at t: val, and der
  * the derivative. At a point t of degree d >= 6 the steps take the convex form: the difference
  * form's growth, up to 3^d, makes a rational patch of degree 10 evaluated at a point 1e-9 wide,
@@ -130,6 +139,22 @@ static void dc_iv(_cb_iv *val, _cb_iv *der, _cb_iv *c, int d, _cb_iv t, int dim)
 {
     const _cb_iv omt = _cb_iv_sub(_cb_iv_pt(1), t);
     const int point = t.lo == t.hi && d >= 6;
+    if (t.lo == t.hi && !point && d >= 1) {
+        /* The difference form at a point (lerp_iv's, with mul_pt). */
+        for (int r = 1; r <= d; r++)
+            for (int i = 0; i + r <= d; i++)
+                for (int q = 0; q < dim; q++) {
+                    _cb_iv a = c[dim * i + q], b = c[dim * i + dim + q];
+                    _cb_iv v = _cb_iv_add(a, mul_pt(t.lo, _cb_iv_sub(b, a)));
+                    if (r < d)
+                        c[dim * i + q] = v;
+                    else
+                        val[q] = v;
+                }
+        for (int q = 0; q < dim && der; q++)
+            der[q] = _cb_iv_mul(_cb_iv_pt((double)d), _cb_iv_sub(c[dim + q], c[q]));
+        return;
+    }
     for (int r = 1; r < d; r++)
         for (int i = 0; i + r <= d; i++)
             for (int q = 0; q < dim; q++)
