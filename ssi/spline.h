@@ -281,14 +281,6 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *stats, co
                          const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *o,
                          _cb_ssi_tiny_set *tiny, int job);
 
-/* 1 when a cluster of tiny (as _cb_ssi_tiny_resolve groups them) is wider than the near-node
- * bound (WT_MAX_TOL tol) and holds an end of a piece of pieces (not of a side's piece, which
- * runs on through the members reaching it): a branch running into what
- * the band run left as a band (a near-tangent node or cusp seen coarsely), which that rule
- * refuses; 0 when none is, -1 when out of memory. */
-int _cb_ssi_tiny_wide_end(const _cb_ssi_piece_set *pieces, const _cb_ssi_tiny_set *tiny,
-                          double tol);
-
 /* A tangent region resolved within the tolerance by _cb_ssi_tiny_resolve: its 3D box and
  * diameter, the point (of both surfaces, parameters in the domains, P's uv and Q's st) its piece
  * ends moved onto, how many did, whether no branch ends in it or passes it (lone: an isolated
@@ -301,29 +293,33 @@ typedef struct {
     slong job;
 } _cb_ssi_tiny_region;
 
-/* Within the tolerance (tolerance-certificates.md sections 2 and 5), for the unresolved
- * sub-pairs of all patch pairs of two surfaces (tiny[k]: those of pair k, pieces sets[k]):
- * they are clustered (3D boxes meeting within tol / 10), and a cluster that meets no sub-pair
- * left uncertified (blocker) and has a 3D diameter at most tol, or at most 1000 tol with every
- * member proved within tol, is resolved: the piece ends
- * (of every pair) in its box grown by tol move onto one point of both surfaces in it (a member's
- * candidate whose surface points are within tol; with none the cluster is not resolved),
- * pieces lying wholly in it are dropped, and with no end it gives one isolated contact point
- * (appended to the set of its first member's pair); two pieces of sides lying on the other
- * surface from its point to one patch corner (the node where those sides cross, just outside
- * its box, within its diameter) are dropped as well. A larger cluster is not resolved: bad[k]
- * is set for each pair k with a member in it, and unres[k] counts them. Per resolved region:
- * *regions, *nodes (of them with branch ends), *width (largest diameter), and a record in *out
- * (*nout of them, malloc'd, the caller frees; NULL when none) whose index the moved piece ends
- * (and the contact point) carry in _cb_ssi_end.region, so stitching joins them; within[k] is
- * set for every pair k with a member in a resolved region or a piece end moved. A cluster
- * wider than 1000 tol with every member proved within tol, that meets no sub-pair left
- * uncertified and holds no piece end (in a member's box grown by tol; the pieces of a side
- * lying on the other surface, which run on through the members reaching it, not counted), is
- * a contact band: its
- * curves are the valley of the distance (_cb_ssi_band_trace on P and Q, the whole surfaces
- * whose domains the pieces' parameters are in; NULL: not tried), appended to the set of its
- * first member's pair, the region recorded (no node, ends 0). -1 when out of memory. */
+/* Within the tolerance (tolerance-certificates.md sections 2 and 5), for the unresolved sub-pairs
+ * of all patch pairs of two surfaces (tiny[k]: those of pair k, pieces sets[k]): they are
+ * clustered (3D boxes meeting within tol / 10), and a cluster that meets no sub-pair left
+ * uncertified (blocker) and has a 3D diameter at most tol, or at most 1000 tol with every member
+ * proved within tol, is resolved: the piece ends (of every pair) in its box grown by tol move onto
+ * one point of both surfaces in it (a member's candidate whose surface points are within tol,
+ * moved onto the intersection by _cb_ssi_band_zero_point within the cluster's diameter of its box
+ * where that converges; with no candidate the cluster is not resolved), pieces lying wholly in it
+ * are dropped, and with no end it gives one isolated contact point (appended to the set of its
+ * first member's pair; not where it lies within WT_MAX_TOL tol of a region branch ends joined, or
+ * of a wider region giving such a point); two pieces of sides lying on the other surface from its
+ * point to one patch corner (the node where those sides cross, just outside its box, within its
+ * diameter) are dropped as well. A larger cluster is not resolved unless it is a contact band
+ * (below): bad[k] is set for each pair k with a member in it, and unres[k] counts them. Per
+ * resolved region: *regions, *nodes (of them with branch ends), *width (largest diameter), and a
+ * record in *out (*nout of them, malloc'd, the caller frees; NULL when none) whose index the moved
+ * piece ends (and the contact point) carry in _cb_ssi_end.region, so stitching joins them;
+ * within[k] is set for every pair k with a member in a resolved region or a piece end moved. A
+ * cluster wider than 1000 tol with every member proved within tol, that meets no sub-pair left
+ * uncertified and holds no piece end (in a member's box grown by tol; the pieces of a side lying
+ * on the other surface, which run on through the members reaching it, not counted), is a contact
+ * band: its curves are the valley of the distance (_cb_ssi_band_trace on P and Q, the whole
+ * surfaces whose domains the pieces' parameters are in; NULL: not tried), appended to the set of
+ * its first member's pair, the region recorded (no node, ends 0). Such a cluster that holds a
+ * piece end, or where no valley was traced, is one node (_cb_ssi_band_node: the ends joined to it
+ * along the zero set of the distance; with no end, one isolated contact point), recorded as the
+ * small regions are. -1 when out of memory. */
 int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tiny_set *tiny,
                          char *bad, long *unres, double tol, long *regions, long *nodes,
                          double *width, _cb_ssi_tiny_region **out, slong *nout, char *within,
@@ -332,34 +328,87 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
 
 /* The curves of a contact band (ssi_band.c): the m[0 .. nm) members of one cluster of sub-pairs
  * proved within tol of each other (slab_within), P and Q the whole B-spline surfaces (uv, st of
- * the members in their domains), sets[0 .. nsets) the pieces of all patch pairs (for the sides
- * of P lying on sides of Q: their pieces, `side`). The rule (tolerance-certificates.md
- * section 2, "the curve reported inside it is the minimum of the distance"): with D(u, v) the
- * signed distance of P(u, v) from its foot on Q along Q's normal, the curve is the valley of D,
- * the points where D's derivative across the valley (along the eigenvector of D's Hessian of
- * largest eigenvalue) is 0, traced from a member's point by steps along the valley, each point
- * settled onto it by Newton's method across it, the chords within chord (sagitta, by the
- * settled midpoint) and max_seg; a curve ends where it closes, on a side of P's domain (that
- * parameter held, its `fixed` bit set; on a side lying on Q, where D vanishes along the side,
- * where it meets it), or where Q's domain ends. Members that a side's piece crosses (their box
- * grown by 2 chord + 10 tol) have that side for their curve: they seed none. Checked, or 0 (not
- * resolved): every point within tol of both surfaces (|D| <= tol) and in a member's box grown
- * by tol (in the region proved within tol), every member's valley point within 2 chord + 10 tol
- * of a traced curve or on a side lying on Q (a member off every curve seeds another; at most
- * 16); where P has sides lying on Q, a member without a valley point (Newton's method not
- * converging, or no valley followed from it: beside the node where the valley meets such a
- * side, where it is not defined) crossed by a curve or a side's piece, or its box meeting
- * (within tol) that of a member so crossed: the region left to the curves there is one member
- * wide; elsewhere (as around an isolated contact, a bowl of D whose valley is any line through
- * its bottom) such a member leaves the band unresolved. Not proved: that the valley is unique between the points,
- * or that the surfaces touch there (a near miss within tol reads as a tangential curve). On
- * success the curves are appended to out as tangential pieces flagged within (stitching marks
- * their curves not certified); 1, 0 not resolved (out may hold part of the curves: the caller
- * drops them), -1 out of memory. Only B-spline P and Q (0 otherwise). */
+ * the members in their domains), sets[0 .. nsets) the pieces of all patch pairs (for the sides of
+ * P lying on sides of Q: their pieces, `side`). The rule (tolerance-certificates.md section 2,
+ * "the curve reported inside it is the minimum of the distance"): with D(u, v) the signed distance
+ * of P(u, v) from its foot on Q along Q's normal, the curve is the valley of D, the points where
+ * D's derivative across the valley (along the eigenvector of D's Hessian of largest eigenvalue) is
+ * 0, traced from a member's point by steps along the valley, each point settled onto it by
+ * Newton's method across it, the chords within chord (sagitta, by the settled midpoint) and
+ * max_seg; a curve ends where it closes, on a side of P's domain (that parameter held, its `fixed`
+ * bit set; on a side lying on Q, where D vanishes along the side, where it meets it), or where Q's
+ * domain ends. Members that a side's piece crosses (their box grown by 2 chord + 10 tol) have that
+ * side for their curve: they seed none. Checked, or 0 (not resolved): every point within tol of
+ * both surfaces (|D| <= tol) and in a member's box grown by tol (in the region proved within tol),
+ * every member's valley point within 2 chord + 10 tol of a traced curve or on a side lying on Q (a
+ * member off every curve seeds another; at most 16); where P has sides lying on Q, a member
+ * without a valley point (Newton's method not converging, or no valley followed from it: beside
+ * the node where the valley meets such a side, where it is not defined) crossed by a curve or a
+ * side's piece, or its box meeting (within tol) that of a member so crossed: the region left to
+ * the curves there is one member wide; elsewhere (as around an isolated contact, a bowl of D whose
+ * valley is any line through its bottom) such a member leaves the band unresolved. Not proved:
+ * that the valley is unique between the points, or that the surfaces touch there (a near miss
+ * within tol reads as a tangential curve). On success the curves are appended to out as tangential
+ * pieces flagged within (stitching marks their curves not certified); 1, 0 not resolved (out may
+ * hold part of the curves: the caller drops them), -1 out of memory. Only B-spline P and Q (0
+ * otherwise). */
 int _cb_ssi_band_trace(_cb_ssi_piece_set *out, const _cb_ssi_piece_set *sets, slong nsets,
                        const cb_ssi_surface *P, const cb_ssi_surface *Q,
                        const _cb_ssi_tiny *const *m, slong nm, double tol, double chord,
                        double max_seg);
+
+/* A contact band that is no valley curve (ssi_band.c): the m[0 .. nm) members of one cluster wider
+ * than WT_MAX_TOL tol, each proved within tol of the other surface (slab_within), that holds
+ * branch ends (a near-tangent node, cusp or touching point seen coarsely) or where
+ * _cb_ssi_band_trace traced no curve (an isolated contact whose distance is a bowl). The rule
+ * (tolerance-certificates.md section 2: the surfaces lie within tol of each other all over the
+ * band, so any point and path in it is an intersection within tol): the band is one node that
+ * every end of a piece of sets lying in a member's box grown by tol joins (not those of a side
+ * lying on the other surface, which runs on through the band, and which is not dropped below
+ * either). From each end the zero set of D (the signed distance of _cb_ssi_band_trace) is traced
+ * into the band (steps along its level line of at most 2 chord, each point moved onto D = 0 by
+ * Newton's method until it stops moving, kept when that moved it at most a quarter of the step,
+ * the step's middle is within chord of its chord and D's gradient keeps its side: the other of two
+ * curves of the zero set that come close, as at a touching point or node, has it the other way)
+ * until it leaves the members' box, comes within 2 chord + 10 tol of another end, or cannot go on.
+ * A piece with both ends in the band (a sub-pair's piece between two members) is not traced; one
+ * whose every point lies within 2 chord + 10 tol of a trace is dropped (the trace follows its
+ * curve). Two ends one's trace came to are one curve through the band (a gap its members left in
+ * it): joined along that trace at the other end's point, a record of their own (unless the other's
+ * trace came to a third end). The node, for the ends not so linked: the first point of one trace
+ * within 2 chord + 10 tol of another trace that its start is not on (where two curves of the zero
+ * set meet), the one where D's gradient is least; with no such point, the trace point where it is
+ * least; with no trace, a member's candidate whose surface points are within tol, the one nearest
+ * the ends' mean (with no end, the centre of the band's box). Each end's spoke to the node: its
+ * trace as far as its point nearest the node, then the straight line in P's parameters (feet on
+ * Q), chords halved to chord and max_seg, or where a point of it is not within tol of Q the line
+ * through the points of the members on the way (boxes meeting within tol / 10). Pieces lying
+ * wholly in the members' boxes are dropped. Checked, or 0 (not resolved, sets unchanged): every
+ * spoke point within tol of its foot on Q and in the members' box grown by tol. On success the
+ * records are appended to *out (*nout held, *alloc allocated; _cb_ssi_region_slot): the node's
+ * first (box and diameter the band's, job that of its first member, the node's point, ends the
+ * number joined to it, lone: no end and no piece passing through a member's box, one isolated
+ * contact point, which the caller adds), then one per link (ends 2); the moved ends carry their
+ * record's index in end.region (within[k] set for their set k). Not proved: which ends the true
+ * curves join inside the band (the band is one node within tol), or that the surfaces touch there.
+ * 1, 0, -1 out of memory. Only B-spline P and Q (0 otherwise). */
+int _cb_ssi_band_node(_cb_ssi_piece_set *sets, slong nsets, const cb_ssi_surface *P,
+                      const cb_ssi_surface *Q, const _cb_ssi_tiny *const *m, slong nm,
+                      double tol, double chord, double max_seg, slong job,
+                      _cb_ssi_tiny_region **out, slong *nout, slong *alloc, char *within);
+
+/* Room for the record *out + n of _cb_ssi_tiny_resolve's records (n held, alloc allocated;
+ * grown by doubling): it, or NULL when out of memory (*out as it was). */
+_cb_ssi_tiny_region *_cb_ssi_region_slot(_cb_ssi_tiny_region **out, slong n, slong *alloc);
+
+/* The point of P at uv (foot st on Q, X their middle) moved onto the intersection by Newton's
+ * method on the signed distance (ssi_band.c, as the zero set's traces of _cb_ssi_band_node),
+ * kept when it converges with the middle inside the box lo, hi grown by slack + tol and both
+ * surface points within tol: 1 (uv, st, X updated), 0 (unchanged; also when P or Q is not
+ * B-spline). */
+int _cb_ssi_band_zero_point(const cb_ssi_surface *P, const cb_ssi_surface *Q, double uv[2],
+                            double st[2], double X[3], const double lo[3], const double hi[3],
+                            double slack, double tol);
 
 /* ---------------------------------------------------------------- coincidence ------------- */
 

@@ -24,7 +24,9 @@
  * point run to it inside the region, by chords of at most that length; at the default tol
  * (1e-6 of the model's size) 1000 tol is 1e-3 of the size, whose sagitta on a surface of
  * curvature radius the model's size is a tenth of tol. The nodes of bicubic graph pairs in
- * generic poses need up to about 1000 tol (bench_ssi_corpus). */
+ * generic poses need up to about 1000 tol (bench_ssi_corpus). A wider cluster, every member
+ * proved within tol, is a contact band (ssi_band.c): its valley curves, or one node that the
+ * branch ends reach along the zero set of the distance. */
 #define TINY_TOL 0.125
 #define STOP_TOL 8.0
 #define WT_MAX_TOL 1000.0
@@ -1287,43 +1289,6 @@ static double tiny_widest(const _cb_ssi_tiny *t, slong n, double tol)
     return widest;
 }
 
-int _cb_ssi_tiny_wide_end(const _cb_ssi_piece_set *pieces, const _cb_ssi_tiny_set *tiny,
-                          double tol)
-{
-    slong n = tiny->n;
-    if (n == 0)
-        return 0;
-    _cb_ssi_tiny *t = malloc((size_t)n * sizeof *t);
-    slong *root = malloc((size_t)n * sizeof *root);
-    if (!t || !root || tiny_clusters(root, tiny->t, n, tol)) {
-        free(t);
-        free(root);
-        return -1;
-    }
-    memcpy(t, tiny->t, (size_t)n * sizeof *t);
-    for (slong i = 0; i < n; i++)
-        t[i].root = (int)root[i];
-    free(root);
-    int found = 0;
-    for (slong c = 0; c < n && !found; c++) {
-        if (t[c].root != c)
-            continue;
-        double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-        for (slong i = c; i < n; i++)
-            if (t[i].root == c)
-                for (int q = 0; q < 3; q++) {
-                    lo[q] = fmin(lo[q], t[i].lo[q]);
-                    hi[q] = fmax(hi[q], t[i].hi[q]);
-                }
-        double d2 = 0;
-        for (int q = 0; q < 3; q++)
-            d2 += (hi[q] - lo[q]) * (hi[q] - lo[q]);
-        found = sqrt(d2) > WT_MAX_TOL * tol && band_has_end(pieces, 1, t, n, c, tol);
-    }
-    free(t);
-    return found;
-}
-
 /* Two sides lying on the other surface (_cb_ssi_coside) cross at a patch corner, a node of
  * the intersection; where the surfaces stay within tol around it, the region rid resolved
  * beside it (box lo, hi) may leave the corner just outside its box: the two sides' pieces from
@@ -1417,53 +1382,55 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
             }
         double diam = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                            (hi[2] - lo[2]) * (hi[2] - lo[2]));
-        /* A contact band: its curves traced along the valley of the distance. */
-        if (!blocked && all_slab && diam > WT_MAX_TOL * tol && P && Q &&
-            !band_has_end(sets, nsets, t, nt, c, tol)) {
+        /* A contact band: its curves traced along the valley of the distance; one that holds
+         * branch ends, or where no valley was traced, is one point (_cb_ssi_band_node). */
+        if (!blocked && all_slab && diam > WT_MAX_TOL * tol && P && Q) {
             slong nm = 0;
             for (slong i = c; i < nt; i++)
                 nm += tiny_find(t, (int)i) == c;
             const _cb_ssi_tiny **m = malloc((size_t)nm * sizeof *m);
-            int traced = -1;
+            slong rid = *nout;
+            int res = -1;
             if (m) {
                 nm = 0;
                 for (slong i = c; i < nt; i++)
                     if (tiny_find(t, (int)i) == c)
                         m[nm++] = t + i;
-                traced = _cb_ssi_band_trace(sets + t[c].job, sets, nsets, P, Q, m, nm, tol, chord,
-                                            max_seg);
-                free(m);
-            }
-            if (traced > 0 && *nout == alloc_out) {
-                slong na = alloc_out ? 2 * alloc_out : 8;
-                _cb_ssi_tiny_region *q = realloc(*out, (size_t)na * sizeof *q);
-                if (q) {
-                    *out = q;
-                    alloc_out = na;
-                } else {
-                    traced = -1;
+                res = band_has_end(sets, nsets, t, nt, c, tol)
+                          ? 0
+                          : _cb_ssi_band_trace(sets + t[c].job, sets, nsets, P, Q, m, nm, tol,
+                                               chord, max_seg);
+                _cb_ssi_tiny_region *rg =
+                    res > 0 ? _cb_ssi_region_slot(out, *nout, &alloc_out) : NULL;
+                if (rg) {
+                    (*nout)++;
+                    memset(rg, 0, sizeof *rg);
+                    memcpy(rg->lo, lo, sizeof rg->lo);
+                    memcpy(rg->hi, hi, sizeof rg->hi);
+                    rg->width = diam;
+                    memcpy(rg->X, t[c].X, sizeof rg->X);
+                    memcpy(rg->uv, t[c].uv, sizeof rg->uv);
+                    memcpy(rg->st, t[c].st, sizeof rg->st);
+                    rg->slab = 1;
+                    rg->job = t[c].job;
+                } else if (res > 0) {
+                    res = -1;
+                } else if (res == 0) {
+                    res = _cb_ssi_band_node(sets, nsets, P, Q, m, nm, tol, chord, max_seg,
+                                            t[c].job, out, nout, &alloc_out, within);
                 }
             }
-            if (traced < 0) {
+            free(m);
+            if (res < 0) {
                 st = -1;
                 break;
             }
-            if (traced > 0) {
-                _cb_ssi_tiny_region *rg = *out + (*nout)++;
-                memcpy(rg->lo, lo, sizeof rg->lo);
-                memcpy(rg->hi, hi, sizeof rg->hi);
-                rg->width = diam;
-                memcpy(rg->X, t[c].X, sizeof rg->X);
-                memcpy(rg->uv, t[c].uv, sizeof rg->uv);
-                memcpy(rg->st, t[c].st, sizeof rg->st);
-                rg->slab = 1;
-                rg->ends = 0;
-                rg->lone = 0;
-                rg->job = t[c].job;
+            if (res > 0) {
                 for (slong i = c; i < nt; i++)
                     if (tiny_find(t, (int)i) == c)
                         within[t[i].job] = 1;
                 (*regions)++;
+                *nodes += (*out)[rid].ends > 0;
                 *width = fmax(*width, diam);
                 continue;
             }
@@ -1506,20 +1473,23 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
         memset(&node_pq, 0, sizeof node_pq);
         memcpy(node_pq.uv, t[best].uv, sizeof node_pq.uv);
         memcpy(node_pq.st, t[best].st, sizeof node_pq.st);
-        const double *X = t[best].X;
+        double X[3];
+        memcpy(X, t[best].X, sizeof X);
+        /* Onto the intersection where Newton's method takes it within the region's diameter
+         * of it: within tol of both surfaces either way, but the ends moved there then run on
+         * along the curve (a crossing at a small angle leaves a region of hundreds of tol along
+         * its curve, one along a patch side may be thinner than the curve's distance from the
+         * candidate). */
+        if (P && Q)
+            _cb_ssi_band_zero_point(P, Q, node_pq.uv, node_pq.st, X, lo, hi, diam, tol);
         /* Its record, whose index the moved ends carry (stitching joins them). */
-        if (*nout == alloc_out) {
-            slong na = alloc_out ? 2 * alloc_out : 8;
-            _cb_ssi_tiny_region *q = realloc(*out, (size_t)na * sizeof *q);
-            if (!q) {
-                st = -1;
-                break;
-            }
-            *out = q;
-            alloc_out = na;
-        }
         slong rid = *nout;
-        _cb_ssi_tiny_region *rg = *out + (*nout)++;
+        _cb_ssi_tiny_region *rg = _cb_ssi_region_slot(out, *nout, &alloc_out);
+        if (!rg) {
+            st = -1;
+            break;
+        }
+        (*nout)++;
         memcpy(rg->lo, lo, sizeof rg->lo);
         memcpy(rg->hi, hi, sizeof rg->hi);
         rg->width = diam;
@@ -1581,8 +1551,9 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
     }
     /* A lone region within WT_MAX_TOL tol of a region that branch ends joined (a pocket
      * where the surfaces stay within tol beside a cusp's or node's region, separated from it
-     * by sub-pairs proved apart) is part of that feature within the tolerance; the others
-     * are isolated contact points. */
+     * by sub-pairs proved apart) is part of that feature within the tolerance, as is one
+     * within WT_MAX_TOL tol of a wider lone region (one contact whose region sub-pairs proved
+     * apart cut in two); the others are isolated contact points. */
     for (slong g = 0; g < *nout && st == 0; g++) {
         _cb_ssi_tiny_region *rg = *out + g;
         if (!rg->lone)
@@ -1590,7 +1561,8 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
         int near = 0;
         for (slong h = 0; h < *nout && !near; h++) {
             const _cb_ssi_tiny_region *o = *out + h;
-            if (h == g || o->ends == 0)
+            int wider = o->lone && (o->width > rg->width || (o->width == rg->width && h < g));
+            if (h == g || (o->ends == 0 && !wider))
                 continue;
             double d2 = 0;
             for (int q = 0; q < 3; q++) {

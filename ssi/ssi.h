@@ -131,17 +131,6 @@ typedef struct {
                                    along a tangential curve, then traced: ssi/README.md,
                                    "Outcomes"), kept when it leaves nothing uncertified;
                                    default 200000; 0: no second run */
-    slong spline_node_subpairs; /* subdivision route: where that second run is kept but a
-                                   region it left wider than the near-node bound (1000 tol)
-                                   holds a branch end (a near-tangent node or cusp seen
-                                   coarsely, which would be refused), the first run again
-                                   with this budget (and the boundary-root boxes of all
-                                   three runs held to 14 per sub-pair of it: not run when
-                                   the first two used half), stopping once such a region is
-                                   wider than the bound; kept when it leaves nothing
-                                   uncertified; default
-                                   150000 (a bicubic node in a generic pose takes about
-                                   35000, a cusp 100000); 0: no third run */
     int recognise; /* 1 (default): B-spline faces proved to lie on planes, cylinders, spheres
                       or cones (within 1e-3 tol) take the analytic closed forms when one
                       decides the pair (ssi_recog.c); 0: always the B-spline routes */
@@ -262,9 +251,10 @@ typedef struct {
  *                candidates within their bounds on a patch side, or ends on no side) whose 3D
  *                box has diameter width <= tol: joined at one node (the first end's point);
  *   CONTACT_BAND surfaces proved within tol of each other over a region wider than tol, width
- *                its diameter (the subdivision route's tangent regions): up to 1000 tol where
- *                branch ends join at one point of it (a near-tangent node or cusp), any where a
- *                tangential curve is traced along it (the valley of the distance);
+ *                its diameter (the subdivision route's tangent regions): branch ends joined at
+ *                one point of it (a near-tangent node, cusp or touching point; above 1000 tol
+ *                along the zero set of the distance), a tangential curve traced along it (the
+ *                valley of the distance), or one isolated contact point;
  *   SIDE         a side of a patch of A lying on a side of a patch of B (two faces sharing an
  *                edge): the curve along it is that side, its points within width (<= tol / 2,
  *                proved) of both surfaces; boundary roots within tol / 2 of it on the sides

@@ -39,7 +39,6 @@ void cb_ssi_opts_default(cb_ssi_opts *o)
     o->spline_max_depth = 30;
     o->spline_max_subpairs = 20000;
     o->spline_band_subpairs = 200000;
-    o->spline_node_subpairs = 150000;
     o->recognise = 1;
     o->cancel = NULL;
     o->progress = NULL;
@@ -131,10 +130,6 @@ typedef struct {
  * hyperbolic paraboloid of the patch's noise, and the inversion that clips to it
  * ill-conditioned). */
 #define NEAR_PLANAR 1e-12
-/* Boundary-root boxes per sub-pair of the third run's budget, for all three runs of a pair
- * together (a bicubic node in a generic pose takes about 1.8 million over them, a cusp 1.1
- * million). */
-#define NODE_EDGE_BOXES 14
 
 /* The three corners (homogeneous) of a net spanning the largest triangle, when every control
  * point is within NEAR_PLANAR of their plane; 0 otherwise. */
@@ -430,10 +425,9 @@ static void job_orientation(pair_job *J, const pair_ctx *c)
 
 /* J's Bezier patches P and Q run again with so: the new pieces, regions and figures are kept
  * when they leave nothing uncertified, otherwise the previous ones stand (their refusal with
- * them); either way both runs' sub-pairs count as examined. *boxes: the new run's
- * boundary-root boxes. */
+ * them); either way both runs' sub-pairs count as examined. */
 static void spline_rerun(pair_job *J, const pair_ctx *c, const _cb_ssi_bez *P,
-                         const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *so, long *boxes)
+                         const _cb_ssi_bez *Q, const _cb_ssi_spline_opts *so)
 {
     _cb_ssi_piece_set prev = J->pieces;
     _cb_ssi_tiny_set prev_tiny = J->tiny;
@@ -442,7 +436,6 @@ static void spline_rerun(pair_job *J, const pair_ctx *c, const _cb_ssi_bez *P,
     _cb_ssi_tiny_set_init(&J->tiny);
     _cb_ssi_spline_pair(&J->pieces, &J->sst, P, Q, so, &J->tiny, (int)(J - c->job));
     long both = prev_st.subpairs + J->sst.subpairs;
-    *boxes = J->sst.edge_boxes;
     if (J->sst.uncertified > 0 && !J->sst.nomem) {
         _cb_ssi_piece_set_clear(&J->pieces);
         _cb_ssi_tiny_set_clear(&J->tiny);
@@ -502,30 +495,9 @@ static void spline_run(pair_job *J, const pair_ctx *c)
                 s->march_failed > 0) {
         /* Kept only when it leaves nothing uncertified: otherwise the first run's finer
          * pieces and regions stand (its refusal with them). */
-        long first_boxes = J->sst.edge_boxes, band_boxes = 0;
         so.band = 1;
         so.max_subpairs = so.max_edge_boxes = c->opts->spline_band_subpairs;
-        spline_rerun(J, c, &P, &Q, &so, &band_boxes);
-        /* The band run kept, but a cluster of it wider than the near-node bound holds a
-         * branch end: a near-tangent node or cusp seen coarsely, which the tangent-region rule
-         * refuses. The fine run again, with the larger budget these need, kept when it leaves
-         * nothing uncertified. */
-        int wide = J->sst.uncertified == 0 && !J->sst.nomem && c->opts->spline_node_subpairs > 0
-                       ? _cb_ssi_tiny_wide_end(&J->pieces, &J->tiny, c->tol)
-                       : 0;
-        if (wide < 0)
-            J->sst.nomem = 1;
-        long node_boxes = NODE_EDGE_BOXES * c->opts->spline_node_subpairs;
-        if (wide > 0 && node_boxes > 2 * (first_boxes + band_boxes)) {
-            so.band = 0;
-            so.max_subpairs = c->opts->spline_node_subpairs;
-            /* The pair's boundary-root boxes over all three runs are bounded: what the first
-             * two used is not given again (a node whose first run already took millions is
-             * left refused rather than run on for minutes). */
-            so.max_edge_boxes = node_boxes - first_boxes - band_boxes;
-            long third_boxes;
-            spline_rerun(J, c, &P, &Q, &so, &third_boxes);
-        }
+        spline_rerun(J, c, &P, &Q, &so);
     }
     if (s->nomem) {
         J->st = CB_ERR_NOMEM;

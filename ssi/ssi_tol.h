@@ -100,13 +100,14 @@
  * member proved within tol, holding no piece end, is a CONTACT_BAND whose curves are the valley
  * of the distance (ssi_band.c: every point within tol of both surfaces and in a member's box
  * grown by tol, every member's valley point within 2 chord + 10 tol of a curve, steps no
- * shorter than 4 tol; within_tolerance, the curves not certified). Other clusters are
+ * shorter than 4 tol; within_tolerance, the curves not certified). Such a cluster holding
+ * piece ends, or where no valley is traced, is one node (ssi_band.c _cb_ssi_band_node: the ends
+ * joined to it along the zero set of the distance, every point within tol of both surfaces;
+ * with no end an isolated contact point; a CONTACT_BAND region). Other clusters are
  * refused. A cluster that no branch reaches or crosses is an isolated contact point, unless
  * within WT_MAX_TOL tol of a region branch ends moved into (a pocket beside a cusp's or node's
  * region: part of it). A Bezier pair's first run stops once one of its clusters is wider than
- * WT_MAX_TOL tol (TINY_CHECK) and runs again as the band run; a band run that leaves such a
- * cluster holding a branch end is followed by a third, fine run with the larger budget
- * spline_node_subpairs (ssi_pairs.c). */
+ * WT_MAX_TOL tol (TINY_CHECK) and runs again as the band run (ssi_pairs.c). */
 
 /* ---------------------------------------------------------------- sides on each other ----- */
 
