@@ -284,8 +284,10 @@ void _cb_ssi_spline_pair(_cb_ssi_piece_set *out, _cb_ssi_spline_stats *stats, co
 /* A tangent region resolved within the tolerance by _cb_ssi_tiny_resolve: its 3D box and
  * diameter, the point (of both surfaces, parameters in the domains, P's uv and Q's st) its piece
  * ends moved onto, how many did, whether no branch ends in it or passes it (lone: an isolated
- * contact point, unless within WT_MAX_TOL tol of a region branches end in), whether every
- * member was proved within tol of the other surface (slab), and the pair of its first member. */
+ * contact point, unless within WT_MAX_TOL tol of a region branches end in or of a wider lone
+ * one), whether every member was proved within tol of the other surface (slab), and the pair
+ * of its first member. A contact band's node (_cb_ssi_band_node) has one record, and each pair
+ * of ends it joins along a trace one more (ends 2, the band's box). */
 typedef struct {
     double lo[3], hi[3], width;
     double X[3], uv[2], st[2];

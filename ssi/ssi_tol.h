@@ -106,8 +106,9 @@
  * with no end an isolated contact point; a CONTACT_BAND region). Other clusters are
  * refused. A cluster that no branch reaches or crosses is an isolated contact point, unless
  * within WT_MAX_TOL tol of a region branch ends moved into (a pocket beside a cusp's or node's
- * region: part of it). A Bezier pair's first run stops once one of its clusters is wider than
- * WT_MAX_TOL tol (TINY_CHECK) and runs again as the band run (ssi_pairs.c). */
+ * region: part of it) or of a wider such cluster (one contact cut in two). A Bezier pair's
+ * first run stops once one of its clusters is wider than WT_MAX_TOL tol (TINY_CHECK) and runs
+ * again as the band run (ssi_pairs.c). */
 
 /* ---------------------------------------------------------------- sides on each other ----- */
 
