@@ -971,11 +971,10 @@ static int zero_trace(vline *l, const band *b, const vpt *a, const double dir0[2
     return 0;
 }
 
-/* 1 when a point of l lies within eps of p (their middles). */
-static int vline_near(const vline *l, const vpt *p, double eps)
+/* 1 when the middle of a point of l lies within eps of P. */
+static int vline_near(const vline *l, const double P[3], double eps)
 {
-    double P[3], Q[3];
-    mid3(P, p);
+    double Q[3];
     for (slong i = 0; i < l->n; i++) {
         mid3(Q, l->p + i);
         if (cb_vec3_dist(P, Q) <= eps)
@@ -1173,13 +1172,8 @@ static int band_traces(band_end *be, slong ne, const band *b, const _cb_ssi_piec
         int covered = 0;
         for (slong j = 0; j < ne && !covered; j++) {
             covered = be[j].trace.n > 1;
-            for (slong v = 0; v < pc->n && covered; v++) {
-                vpt x;
-                memset(&x, 0, sizeof x);
-                memcpy(x.X, pc->xyz + 3 * v, sizeof x.X);
-                memcpy(x.Y, x.X, sizeof x.Y);
-                covered = vline_near(&be[j].trace, &x, eps);
-            }
+            for (slong v = 0; v < pc->n && covered; v++)
+                covered = vline_near(&be[j].trace, pc->xyz + 3 * v, eps);
         }
         /* Both ends of the piece. */
         for (slong j = 0; j < ne && covered; j++)
@@ -1206,10 +1200,15 @@ static void band_meet(vpt *nd, slong at[2], const band_end *be, slong ne, const 
             for (slong j = 0; j < ne && pass == 0; j++) {
                 const vline *tj = &be[j].trace;
                 if (j == i || be[j].link >= 0 || ti->n < 2 || tj->n < 2 ||
-                    !vline_boxes_meet(ti, tj, eps) || vline_near(tj, ti->p, eps))
+                    !vline_boxes_meet(ti, tj, eps))
                     continue;
-                for (slong k = 1; k < ti->n; k++)
-                    if (vline_near(tj, ti->p + k, eps)) {
+                double M[3];
+                mid3(M, ti->p);
+                if (vline_near(tj, M, eps))
+                    continue;
+                for (slong k = 1; k < ti->n; k++) {
+                    mid3(M, ti->p + k);
+                    if (vline_near(tj, M, eps)) {
                         double g = hypot(ti->p[k].g[0], ti->p[k].g[1]);
                         if (g < gmin) {
                             gmin = g;
@@ -1219,6 +1218,7 @@ static void band_meet(vpt *nd, slong at[2], const band_end *be, slong ne, const 
                         }
                         break;
                     }
+                }
             }
             for (slong k = 1; k < ti->n && pass == 1; k++) {
                 double g = hypot(ti->p[k].g[0], ti->p[k].g[1]);
