@@ -105,19 +105,6 @@ void _cb_ssi_bez_eval(double X[3], double Xu[3], double Xv[3], const _cb_ssi_bez
     }
 }
 
-/* One de Casteljau step a + t (b - a) for every t in t, a in a, b in b. The difference form
- * a + t (b - a) widens by the factor 1 + 2 t per step (a and b each enter twice) but is tight
- * in t (a wide t multiplies only b - a); the convex form (1 - t) a + t b carries the widths of
- * a and b over unchanged but multiplies |a| + |b| by t's width and costs two interval products
- * instead of one. point: t is a point and the degree high enough for the growth to matter
- * (dc_iv); then the convex form is taken, else the difference form. */
-static _cb_iv lerp_iv(_cb_iv a, _cb_iv b, _cb_iv t, _cb_iv omt, int point)
-{
-    if (point)
-        return _cb_iv_add(_cb_iv_mul(omt, a), _cb_iv_mul(t, b));
-    return _cb_iv_add(a, _cb_iv_mul(t, _cb_iv_sub(b, a)));
-}
-
 /* t x for a point t: _cb_iv_mul's result (its other two products repeat these two), at half
  * the products: the boundary-root searches evaluate most patches at points. */
 static _cb_iv mul_pt(double t, _cb_iv x)
@@ -128,42 +115,52 @@ static _cb_iv mul_pt(double t, _cb_iv x)
 }
 
 /* Interval de Casteljau of the d + 1 points c (dim values each, overwritten) at t: val, and der
- * the derivative. At a point t of degree d >= 6 the steps take the convex form: the difference
- * form's growth, up to 3^d, makes a rational patch of degree 10 evaluated at a point 1e-9 wide,
- * the Krawczyk operator's centre term as wide, and no boundary root provable at all. Below
- * degree 6 the growth stays under 3^5 round-offs and the difference form is kept: the convex
- * form there changed the search paths of sides holding a continuum of roots (curves along patch
- * sides) and took three times as long on such a case (bench_ssi_corpus boundary/generic/0:
- * 77 s against 24 s, about the same number of sub-pairs). */
+ * the derivative.
+ * At a point t the steps take the convex form (1 - t) a + t b, which carries the widths of a and
+ * b over unchanged. The difference form a + t (b - a) widens by 1 + 2 t per step (a and b each
+ * enter twice), 3^8 round-offs through a bicubic-by-quintic patch's two directions: the
+ * patches of bench_ssi_corpus crossing_loops/param/1, coordinates below 1.6, came out 1e-12
+ * wide at a point, the Krawczyk operator's centre term M F(c) 2e-8 wide where the surfaces
+ * nearly touch (|M| 2e4), and boundary roots there went unproved down to the search's floor
+ * (boxes 1e-13 wide), half of the searches failing. 1 - t is exact for t in [1/2, 1]
+ * (Sterbenz) and often below; where it is, it multiplies as a point.
+ * Over an interval t the difference form is kept: it is tight in t (a wide t multiplies only
+ * b - a), where the convex form multiplies |a| + |b| by t's width. */
 static void dc_iv(_cb_iv *val, _cb_iv *der, _cb_iv *c, int d, _cb_iv t, int dim)
 {
-    const _cb_iv omt = _cb_iv_sub(_cb_iv_pt(1), t);
-    const int point = t.lo == t.hi && d >= 6;
-    if (t.lo == t.hi && !point && d >= 1) {
-        /* The difference form at a point (lerp_iv's, with mul_pt). */
+    if (t.lo == t.hi) {
+        const double s = 1 - t.lo;
+        const int exact = t.lo >= 0 && t.lo <= 1 && 1 - s == t.lo;
+        const _cb_iv omt = _cb_iv_sub(_cb_iv_pt(1), t);
         for (int r = 1; r <= d; r++)
             for (int i = 0; i + r <= d; i++)
                 for (int q = 0; q < dim; q++) {
                     _cb_iv a = c[dim * i + q], b = c[dim * i + dim + q];
-                    _cb_iv v = _cb_iv_add(a, mul_pt(t.lo, _cb_iv_sub(b, a)));
+                    _cb_iv v = _cb_iv_add(exact ? mul_pt(s, a) : _cb_iv_mul(omt, a),
+                                          mul_pt(t.lo, b));
                     if (r < d)
                         c[dim * i + q] = v;
                     else
                         val[q] = v;
                 }
-        for (int q = 0; q < dim && der; q++)
-            der[q] = _cb_iv_mul(_cb_iv_pt((double)d), _cb_iv_sub(c[dim + q], c[q]));
-        return;
+    } else {
+        for (int r = 1; r <= d; r++)
+            for (int i = 0; i + r <= d; i++)
+                for (int q = 0; q < dim; q++) {
+                    _cb_iv a = c[dim * i + q], b = c[dim * i + dim + q];
+                    _cb_iv v = _cb_iv_add(a, _cb_iv_mul(t, _cb_iv_sub(b, a)));
+                    if (r < d)
+                        c[dim * i + q] = v;
+                    else
+                        val[q] = v;
+                }
     }
-    for (int r = 1; r < d; r++)
-        for (int i = 0; i + r <= d; i++)
-            for (int q = 0; q < dim; q++)
-                c[dim * i + q] = lerp_iv(c[dim * i + q], c[dim * i + dim + q], t, omt, point);
-    for (int q = 0; q < dim; q++) {
-        val[q] = lerp_iv(c[q], c[dim + q], t, omt, point);
-        if (der)
-            der[q] = _cb_iv_mul(_cb_iv_pt((double)d), _cb_iv_sub(c[dim + q], c[q]));
-    }
+    if (d == 0)
+        for (int q = 0; q < dim; q++)
+            val[q] = c[q];
+    for (int q = 0; q < dim && der; q++)
+        der[q] = d == 0 ? _cb_iv_pt(0)
+                        : _cb_iv_mul(_cb_iv_pt((double)d), _cb_iv_sub(c[dim + q], c[q]));
 }
 
 _cb_iv _cb_iv_div(_cb_iv x, _cb_iv w)

@@ -289,6 +289,39 @@ static void test_enclosure(void)
           "(6, 10) patch at points: %d enclosure failures, widest enclosure %.3g", bad, widest);
     _cb_ssi_bez_clear(&hb);
     cb_nurbs_surface_clear(hs);
+    /* A polynomial patch of bidegree (5, 3), coordinates up to 1.6 as in the SSI corpus: at a
+     * point the enclosure stays within a few dozen round-offs (the difference form's 3^8 growth
+     * made it 1e-12 wide, and near a tangency the boundary roots unprovable). */
+    double pk_u[12], pk_v[8], pp[3 * 24];
+    for (int k = 0; k < 12; k++)
+        pk_u[k] = k < 6 ? 0 : 1;
+    for (int k = 0; k < 8; k++)
+        pk_v[k] = k < 4 ? 0 : 1;
+    for (int k = 0; k < 3 * 24; k++)
+        pp[k] = check_rng_uniform(&rng, -1.6, 1.6);
+    cb_nurbs_surface_t ps;
+    cb_nurbs_surface_init(ps);
+    cb_nurbs_surface_make(ps, 5, 3, pk_u, 12, pk_v, 8, pp, NULL, 6, 4, &err);
+    _cb_ssi_bez pb;
+    CHECK(_cb_ssi_bez_set(&pb, ps, &err) == CB_OK && pb.rat == 0, "(5, 3) patch: %s", err.msg);
+    widest = 0;
+    bad = 0;
+    for (int trial = 0; trial < 500; trial++) {
+        double u = check_rng_uniform(&rng, 0, 1), v = check_rng_uniform(&rng, 0, 1);
+        _cb_iv X[3], Xu[3], Xv[3];
+        _cb_ssi_bez_eval_iv(X, Xu, Xv, &pb, _cb_iv_pt(u), _cb_iv_pt(v));
+        double p[3], pu[3], pv[3];
+        _cb_ssi_bez_eval(p, pu, pv, &pb, u, v);
+        for (int q = 0; q < 3; q++) {
+            bad += !(p[q] >= X[q].lo - 1e-14 && p[q] <= X[q].hi + 1e-14);
+            widest = fmax(widest, X[q].hi - X[q].lo);
+        }
+    }
+    printf("(5, 3) patch at points: widest enclosure %.3g\n", widest);
+    CHECK(bad == 0 && widest < 2e-14,
+          "(5, 3) patch at points: %d enclosure failures, widest enclosure %.3g", bad, widest);
+    _cb_ssi_bez_clear(&pb);
+    cb_nurbs_surface_clear(ps);
     _cb_ssi_bez_clear(&rb);
     _cb_ssi_bez_clear(&b);
     cb_nurbs_surface_clear(s);
