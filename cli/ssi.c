@@ -30,20 +30,23 @@ static const char SSI_USAGE[] =
     "faces; B-spline pairs (low degrees algebraically, the rest by certified subdivision).\n"
     "Curves and isolated points are clipped to both faces' trimming loops: a curve leaving a\n"
     "face ends on its boundary, refined onto both surfaces. Every result is certified,\n"
-    "resolved within tolerance (its region listed) or refused (listed), never dropped.\n"
+    "resolved within tolerance (its region listed) or refused (listed), never dropped; a\n"
+    "refused region proved to lie outside one of the trimmed faces is listed, not refused.\n"
     "\n"
     "options:\n"
     "  --json OUT   write {\"tolerance\", \"time_s\", \"branches\": [{\"face_a\", \"face_b\",\n"
     "               \"kind\": \"curve\"|\"point\", \"closed\", \"tangential\", \"certified\",\n"
-    "               \"xyz\", \"uv_a\", \"uv_b\"}], \"pairs\": {\"certified\", \"within_tolerance\",\n"
-    "               \"refused\"}, \"coincident\": [{\"face_a\", \"face_b\", \"patch_pairs\",\n"
-    "               \"whole\", \"exact\", \"width\", \"same_face_normal\"}], \"within_tolerance\":\n"
-    "               [{\"face_a\", \"face_b\", \"patch_a\", \"patch_b\", \"kind\": \"coincidence\"|\n"
-    "               \"near_node\"|\"contact_band\"|\"side\", \"width\", \"box_a\", \"box_b\", \"lo\",\n"
-    "               \"hi\"}], \"not_certified\": [{\"face_a\", \"face_b\", \"patch_a\", \"patch_b\",\n"
-    "               \"status\", \"message\"}] (the refused)}; a periodic parameter lies in one\n"
-    "               period around the face's loops (a loop around a cylinder jumps by the\n"
-    "               period at the seam)\n"
+    "               \"xyz\", \"uv_a\", \"uv_b\"}], \"pairs\": {\"certified\",\n"
+    "               \"within_tolerance\", \"outside_face\", \"refused\"}, \"coincident\":\n"
+    "               [{\"face_a\", \"face_b\", \"patch_pairs\", \"whole\", \"exact\", \"width\",\n"
+    "               \"same_face_normal\"}], \"within_tolerance\": [{\"face_a\", \"face_b\",\n"
+    "               \"patch_a\", \"patch_b\", \"kind\":\n"
+    "               \"coincidence\"|\"near_node\"|\"contact_band\"|\"side\"|\"outside_face\",\n"
+    "               \"width\", \"box_a\", \"box_b\", \"lo\", \"hi\"}], \"not_certified\":\n"
+    "               [{\"face_a\", \"face_b\", \"patch_a\", \"patch_b\", \"status\",\n"
+    "               \"message\"}] (the refused)}; a periodic parameter lies in one\n"
+    "               period around the face's loops (a loop around a cylinder jumps\n"
+    "               by the period at the seam)\n"
     "  --svg DIR    write DIR/pair_FA_FB.svg (DIR made if missing) for every face pair with\n"
     "               a curve or point: both parameter domains with the curves, isolated\n"
     "               points, the certified topology's critical, helping and box-side points,\n"
@@ -124,8 +127,9 @@ static int write_json(const char *path, const cb_ssi_result_t r, double t)
                     &p->p, 1);
     }
     fprintf(f, "],\n \"pairs\": {\"certified\": %ld, \"within_tolerance\": %ld, "
-               "\"refused\": %ld},\n \"coincident\": [",
-            (long)r->pairs_certified, (long)r->pairs_within_tolerance, (long)r->n_failed);
+               "\"outside_face\": %ld, \"refused\": %ld},\n \"coincident\": [",
+            (long)r->pairs_certified, (long)r->pairs_within_tolerance,
+            (long)r->pairs_outside_face, (long)r->n_failed);
     for (slong k = 0; k < r->n_coincident; k++) {
         const cb_ssi_coincident *c = r->coincident + k;
         fprintf(f, "%s\n  {\"face_a\": %d, \"face_b\": %d, \"patch_pairs\": %ld, \"whole\": %s, "
@@ -264,10 +268,10 @@ int cb_cli_ssi(int argc, char **argv)
                "clipped to the trimmed faces\n",
                (long)untrimmed[0], (long)untrimmed[1]);
         printf("patch pairs      %ld: culled %ld, proved empty %ld, certified %ld, "
-               "within tolerance %ld (%ld regions), refused %ld\n",
+               "within tolerance %ld (%ld regions), refused outside a face %ld, refused %ld\n",
                (long)r->pairs_total, (long)r->pairs_culled, (long)r->pairs_empty,
                (long)r->pairs_certified, (long)r->pairs_within_tolerance,
-               (long)r->n_regions, (long)r->n_failed);
+               (long)r->n_regions, (long)r->pairs_outside_face, (long)r->n_failed);
         printf("subdivision      %ld patch pairs, %ld sub-patch pairs examined\n",
                (long)r->pairs_subdivided, (long)r->subpairs);
         printf("tolerance        %.3g (max distance to A %.3g, to B %.3g)\n", r->tol,

@@ -308,7 +308,9 @@ typedef struct {
  * of a wider region giving such a point); two pieces of sides lying on the other surface from its
  * point to one patch corner (the node where those sides cross, just outside its box, within its
  * diameter) are dropped as well. A larger cluster is not resolved unless it is a contact band
- * (below): bad[k] is set for each pair k with a member in it, and unres[k] counts them. Per
+ * (below): bad[k] is set for each pair k with a member in it, unres[k] counts them, and
+ * bad_box[8k .. 8k + 8) is the union of their parameter boxes (P's then Q's {u0, u1, v0, v1}, in
+ * the domains; set where bad[k] is). Per
  * resolved region: *regions, *nodes (of them with branch ends), *width (largest diameter), and a
  * record in *out (*nout of them, malloc'd, the caller frees; NULL when none) whose index the moved
  * piece ends (and the contact point) carry in _cb_ssi_end.region, so stitching joins them;
@@ -323,10 +325,10 @@ typedef struct {
  * along the zero set of the distance; with no end, one isolated contact point), recorded as the
  * small regions are. -1 when out of memory. */
 int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tiny_set *tiny,
-                         char *bad, long *unres, double tol, long *regions, long *nodes,
-                         double *width, _cb_ssi_tiny_region **out, slong *nout, char *within,
-                         const cb_ssi_surface *P, const cb_ssi_surface *Q, double chord,
-                         double max_seg);
+                         char *bad, long *unres, double *bad_box, double tol, long *regions,
+                         long *nodes, double *width, _cb_ssi_tiny_region **out, slong *nout,
+                         char *within, const cb_ssi_surface *P, const cb_ssi_surface *Q,
+                         double chord, double max_seg);
 
 /* The curves of a contact band (ssi_band.c): the m[0 .. nm) members of one cluster of sub-pairs
  * proved within tol of each other (slab_within), P and Q the whole B-spline surfaces (uv, st of

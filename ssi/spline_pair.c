@@ -1328,11 +1328,26 @@ static int corner_loops(_cb_ssi_piece_set *sets, slong nsets, slong rid, const d
     return dropped;
 }
 
+/* Cluster c not resolved: each pair with a member in it is bad, counts them, and its bad_box
+ * (8 per pair: P's then Q's {u0, u1, v0, v1}, in the domains) takes their parameter boxes. */
+static void mark_bad(_cb_ssi_tiny *t, slong nt, slong c, char *bad, long *unres,
+                     double *bad_box)
+{
+    for (slong i = c; i < nt; i++)
+        if (tiny_find(t, (int)i) == c && !t[i].blocker) {
+            double *bb = bad_box + 8 * t[i].job;
+            add_box(bb, t[i].bp, !bad[t[i].job]);
+            add_box(bb + 4, t[i].bq, !bad[t[i].job]);
+            bad[t[i].job] = 1;
+            unres[t[i].job]++;
+        }
+}
+
 int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tiny_set *tiny,
-                         char *bad, long *unres, double tol, long *regions, long *nodes,
-                         double *width, _cb_ssi_tiny_region **out, slong *nout, char *within,
-                         const cb_ssi_surface *P, const cb_ssi_surface *Q, double chord,
-                         double max_seg)
+                         char *bad, long *unres, double *bad_box, double tol, long *regions,
+                         long *nodes, double *width, _cb_ssi_tiny_region **out, slong *nout,
+                         char *within, const cb_ssi_surface *P, const cb_ssi_surface *Q,
+                         double chord, double max_seg)
 {
     *out = NULL;
     *nout = 0;
@@ -1436,11 +1451,7 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
             }
         }
         if (blocked || !(diam <= tol || (all_slab && diam <= WT_MAX_TOL * tol))) {
-            for (slong i = c; i < nt; i++)
-                if (tiny_find(t, (int)i) == c && !t[i].blocker) {
-                    bad[t[i].job] = 1;
-                    unres[t[i].job]++;
-                }
+            mark_bad(t, nt, c, bad, unres, bad_box);
             continue;
         }
         /* The point: the candidate of the member nearest the cluster's centre among those
@@ -1462,11 +1473,7 @@ int _cb_ssi_tiny_resolve(_cb_ssi_piece_set *sets, slong nsets, const _cb_ssi_tin
             }
         }
         if (best < 0) {
-            for (slong i = c; i < nt; i++)
-                if (tiny_find(t, (int)i) == c && !t[i].blocker) {
-                    bad[t[i].job] = 1;
-                    unres[t[i].job]++;
-                }
+            mark_bad(t, nt, c, bad, unres, bad_box);
             continue;
         }
         _cb_ssi_pq node_pq;

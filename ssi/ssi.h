@@ -258,17 +258,25 @@ typedef struct {
  *   SIDE         a side of a patch of A lying on a side of a patch of B (two faces sharing an
  *                edge): the curve along it is that side, its points within width (<= tol / 2,
  *                proved) of both surfaces; boundary roots within tol / 2 of it on the sides
- *                across are taken as its crossings of them (the subdivision route).
+ *                across are taken as its crossings of them (the subdivision route);
+ *   OUTSIDE_FACE not within tolerance, and not a refusal: a patch pair's region the routes left
+ *                uncertified (the boxes of its sub-pairs), proved to lie outside face A's or
+ *                face B's trimmed domain and away from its boundary (cb_ssi_bodies: its
+ *                centre outside the loops, no loop within its bound of the box, the surface
+ *                over it farther than tol plus the edges' tolerances from the boundary edges),
+ *                so no curve of the two faces lies in it; lo, hi the box of that surface over
+ *                it, width 0.
  * Parameter boxes {u0, u1, v0, v1} in A's and B's parameters (patch indices -1 for an analytic
  * side or when several patches are involved); lo, hi the 3D box. */
 typedef enum {
     CB_SSI_REGION_COINCIDENCE = 0,
     CB_SSI_REGION_NEAR_NODE = 1,
     CB_SSI_REGION_CONTACT_BAND = 2,
-    CB_SSI_REGION_SIDE = 3
+    CB_SSI_REGION_SIDE = 3,
+    CB_SSI_REGION_OUTSIDE_FACE = 4
 } cb_ssi_region_kind;
 
-/* "coincidence", "near_node", "contact_band", "side". */
+/* "coincidence", "near_node", "contact_band", "side", "outside_face". */
 const char *cb_ssi_region_kind_name(cb_ssi_region_kind k);
 
 typedef struct {
@@ -317,7 +325,8 @@ typedef struct {
                                failure (in pair order), or CB_ERR_NOMEM when that failure
                                could not be listed in failed */
     /* Outcomes: every patch pair that is not culled is counted in exactly one of
-     * pairs_certified and pairs_within_tolerance, or has a record in failed (refused; failed
+     * pairs_certified, pairs_within_tolerance and pairs_outside_face, or has a record in
+     * failed (refused; failed
      * also lists ambiguous joins between pairs and face pairs the driver does not take). */
     slong pairs_total;      /* patch pairs considered */
     slong pairs_culled;     /* separated oriented boxes (section 4.1) */
@@ -325,6 +334,10 @@ typedef struct {
     slong pairs_certified;  /* topology computed, or exact coincidence (includes pairs_empty) */
     slong pairs_within_tolerance; /* resolved within tolerance: coincident within tol, or a
                                      join of its curves' ends decided so (r->region) */
+    slong pairs_outside_face; /* cb_ssi_bodies: patch pairs whose uncertified region lies
+                                 outside one of the trimmed faces (one region record
+                                 CB_SSI_REGION_OUTSIDE_FACE each); their curves in the faces
+                                 are certified */
     slong pairs_subdivided; /* patch pairs taken by the subdivision route (a subset of
                                pairs_total; certified ones are counted in pairs_certified) */
     slong subpairs;         /* sub-patch pairs the subdivision route examined */

@@ -1121,23 +1121,22 @@ static void general_fix(cb_ssi_result_t t, const asurf *q, int side)
         cb_ssi_point *p = &t->point[k].p;
         ainvert(side ? p->uv_b : p->uv_a, q, p->xyz);
     }
-    for (slong k = 0; k < t->n_failed; k++) {
-        cb_ssi_failure *f = t->failed + k;
-        *(side ? &f->patch_b : &f->patch_a) = -1;
-        f->has_box = 0;
-    }
     for (slong k = 0; k < t->n_coincident; k++)
         *(side ? &t->coincident[k].patch_b : &t->coincident[k].patch_a) = -1;
-    /* Region boxes: each direction of the exact form maps monotonically onto the analytic
-     * parameter (cb_topo_surface_nurbs_param), so the corners map to the corners. */
+    /* Region and failure boxes: each direction of the exact form maps monotonically onto the
+     * analytic parameter (cb_topo_surface_nurbs_param), so the corners map to the corners. */
     cb_topo_surface ts;
     cb_topo_surface_init(&ts);
     ts.kind = CB_SURFACE_ANALYTIC;
     ts.analytic = *q->a;
-    for (slong k = 0; k < t->n_regions; k++) {
-        cb_ssi_region *g = t->region + k;
-        double *b = side ? g->box_b : g->box_a;
-        *(side ? &g->patch_b : &g->patch_a) = -1;
+    for (slong k = 0; k < t->n_regions + t->n_failed; k++) {
+        int reg = k < t->n_regions;
+        cb_ssi_region *g = reg ? t->region + k : NULL;
+        cb_ssi_failure *f = reg ? NULL : t->failed + (k - t->n_regions);
+        *(side ? (reg ? &g->patch_b : &f->patch_b) : (reg ? &g->patch_a : &f->patch_a)) = -1;
+        if (!reg && !f->has_box)
+            continue;
+        double *b = reg ? (side ? g->box_b : g->box_a) : (side ? f->box_b : f->box_a);
         for (int e = 0; e < 2; e++) {
             const double st[2] = {b[e], b[2 + e]};
             double uv[2];

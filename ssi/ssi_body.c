@@ -715,8 +715,151 @@ typedef struct {
     cb_error err;
 } fpair;
 
+/* Distance from the segment p q to the rectangle r = {u0, u1, v0, v1} in (u, v); 0 when they
+ * meet. */
+static double seg_rect_dist(const double p[2], const double q[2], const double r[4])
+{
+    /* Meet: the segment clipped to the rectangle (Liang-Barsky) is not empty. */
+    double t0 = 0, t1 = 1, d[2] = {q[0] - p[0], q[1] - p[1]};
+    int meet = 1;
+    for (int k = 0; k < 4 && meet; k++) {
+        int a = k / 2;
+        double num = k % 2 ? r[2 * a + 1] - p[a] : p[a] - r[2 * a], den = k % 2 ? d[a] : -d[a];
+        if (den == 0)
+            meet = num >= 0;
+        else if (den < 0)
+            t0 = fmax(t0, num / den);
+        else
+            t1 = fmin(t1, num / den);
+        meet = meet && t0 <= t1;
+    }
+    if (meet)
+        return 0;
+    double best = HUGE_VAL;
+    for (int e = 0; e < 2; e++) {
+        const double *x = e ? q : p;
+        double du = fmax(0, fmax(r[0] - x[0], x[0] - r[1])),
+               dv = fmax(0, fmax(r[2] - x[1], x[1] - r[3]));
+        best = fmin(best, hypot(du, dv));
+    }
+    double ll = d[0] * d[0] + d[1] * d[1];
+    for (int c = 0; c < 4; c++) {
+        double x[2] = {r[c % 2], r[2 + c / 2]};
+        double t = ll > 0 ? ((x[0] - p[0]) * d[0] + (x[1] - p[1]) * d[1]) / ll : 0;
+        t = fmin(1, fmax(0, t));
+        best = fmin(best, hypot(p[0] + t * d[0] - x[0], p[1] + t * d[1] - x[1]));
+    }
+    return best;
+}
+
+/* 1 when the parameter box (of face f's surface, finite) lies outside the trimmed face, away
+ * from its boundary: its centre classifies OUT; no loop segment comes within its deviation
+ * bound of the box (every lift of the box by a period counted), so the whole box is on the
+ * centre's side of the loops; and the surface over the box (cb_face_surface_box, into x) stays
+ * farther than tol plus the edge's tolerance and its pcurve's offset from every boundary edge
+ * (the edge's samples, each curve point within gap of one), so no point of it is ON either. */
+static int box_outside_face(cb_aabb *x, const cb_face *f, const double box[4], double tol)
+{
+    for (int k = 0; k < 2; k++) {
+        double per = f->inv.period[k];
+        if (!(box[2 * k] <= box[2 * k + 1]) || !isfinite(box[2 * k] + box[2 * k + 1]) ||
+            (per > 0 && !(box[2 * k + 1] - box[2 * k] < per)))
+            return 0;
+    }
+    if (cb_face_classify_uv(f, 0.5 * (box[0] + box[1]), 0.5 * (box[2] + box[3]), tol) !=
+        CB_FACE_OUT)
+        return 0;
+    int ku = f->inv.period[0] > 0 ? 2 : 0, kv = f->inv.period[1] > 0 ? 2 : 0;
+    for (int i = -ku; i <= ku; i++)
+        for (int j = -kv; j <= kv; j++) {
+            double su = i * f->inv.period[0], sv = j * f->inv.period[1];
+            double lift[4] = {box[0] + su, box[1] + su, box[2] + sv, box[3] + sv};
+            for (int g = 0; g < f->n_segs; g++)
+                if (!(seg_rect_dist(f->segs[g].p, f->segs[g].q, lift) > f->segs[g].dev))
+                    return 0;
+        }
+    cb_error e;
+    const cb_topo_body *b = f->b;
+    if (cb_face_surface_box(x, b->surfaces + b->faces[f->face].surface, box, &e) != CB_OK)
+        return 0;
+    for (int g = 0; g < f->n_edges; g++) {
+        const cb_face_edge *ed = f->edges + g;
+        if (!ed->boundary)
+            continue;
+        double margin = tol + ed->off + b->edges[ed->edge].tol + ed->gap;
+        if (!cb_aabb_overlap(x, &ed->box, margin))
+            continue;
+        for (int k = 0; k <= ed->n; k++) {
+            double d2 = 0;
+            for (int q = 0; q < 3; q++) {
+                double c = ed->samples[k][q], o = fmax(0, fmax(x->lo[q] - c, c - x->hi[q]));
+                d2 += o * o;
+            }
+            if (!(sqrt(d2) > margin))
+                return 0;
+        }
+    }
+    return 1;
+}
+
+/* Refusals of face pair (i, j) of bodies a and b whose uncertified region (its parameter boxes)
+ * lies outside face i's or face j's trimmed domain (box_outside_face): no curve of the two faces
+ * lies in it, and everything else of the pair is certified or within tolerance. Each leaves
+ * r->failed for a region record (CB_SSI_REGION_OUTSIDE_FACE, the side's 3D box) and is counted
+ * in r->pairs_outside_face; r->status is that of the first refusal left. CB_ERR_NOMEM. */
+static cb_status drop_outside(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_body *b,
+                              int i, int j, double tol)
+{
+    cb_face fc[2];
+    int have[2] = {0, 0}; /* 0 not prepared yet, 1 prepared, -1 could not be */
+    const cb_topo_body *body[2] = {a, b};
+    const int face[2] = {i, j};
+    cb_status st = CB_OK;
+    slong kept = 0;
+    for (slong k = 0; k < r->n_failed; k++) {
+        cb_ssi_failure f = r->failed[k];
+        int out = 0;
+        cb_aabb x;
+        for (int s = 0; s < 2 && f.has_box && !out && st == CB_OK; s++) {
+            if (have[s] == 0) {
+                cb_error e;
+                double ft = body[s]->tol > 0 ? body[s]->tol : tol;
+                cb_status fs = cb_face_init(fc + s, body[s], face[s], ft, &e);
+                have[s] = fs == CB_OK ? 1 : -1;
+                if (fs == CB_ERR_NOMEM)
+                    st = CB_ERR_NOMEM;
+            }
+            out = have[s] > 0 && box_outside_face(&x, fc + s, s ? f.box_b : f.box_a, tol);
+        }
+        if (!out) {
+            r->failed[kept++] = f;
+            continue;
+        }
+        cb_ssi_region *g = _cb_ssi_add_region(r, CB_SSI_REGION_OUTSIDE_FACE, f.face_a, f.face_b,
+                                              f.patch_a, f.patch_b, 0);
+        if (!g) {
+            st = CB_ERR_NOMEM;
+            r->failed[kept++] = f;
+            continue;
+        }
+        memcpy(g->box_a, f.box_a, sizeof g->box_a);
+        memcpy(g->box_b, f.box_b, sizeof g->box_b);
+        memcpy(g->lo, x.lo, sizeof g->lo);
+        memcpy(g->hi, x.hi, sizeof g->hi);
+        r->pairs_outside_face++;
+    }
+    r->n_failed = kept;
+    if (r->status != CB_ERR_NOMEM)
+        r->status = kept > 0 ? r->failed[0].status : CB_OK;
+    for (int s = 0; s < 2; s++)
+        if (have[s] > 0)
+            cb_face_clear(fc + s);
+    return st;
+}
+
 typedef struct {
     fpair *f;
+    const cb_topo_body *a, *b;
     const cb_ssi_surface *sa, *sb;
     const face_conv *ca, *cb; /* conversions of a's and b's faces */
     cb_ssi_opts o;
@@ -745,6 +888,10 @@ static void fbody(void *vctx, size_t begin, size_t end)
             renumber(F->r, 0, c->ca + F->i);
         if (F->st == CB_OK && c->cb[F->j].sub)
             renumber(F->r, 1, c->cb + F->j);
+        if (F->st == CB_OK && F->r->n_failed > 0 &&
+            drop_outside(F->r, c->a, c->b, F->i, F->j, c->o.tol) != CB_OK)
+            F->st = cb_error_set(&F->err, CB_ERR_NOMEM, "ssi: out of memory checking refused "
+                                 "regions against the trimmed faces");
         if (c->o.progress)
             cb_context_progress(c->o.progress, (double)(atomic_fetch_add(&c->done, 1) + 1),
                                 (double)c->total, "ssi");
@@ -823,7 +970,7 @@ cb_status cb_ssi_bodies(cb_ssi_result_t r, const cb_topo_body *a, const cb_topo_
         cb_error_set(err, st, "ssi: out of memory preparing %d x %d faces", a->n_faces,
                      b->n_faces);
     } else {
-        fctx fc = {fp, sa, sb, ca, cb, o, 0, 0};
+        fctx fc = {fp, a, b, sa, sb, ca, cb, o, 0, 0};
         for (slong k = 0; k < nf; k++)
             fc.total += fp[k].run;
         fc.o.threads = 1;

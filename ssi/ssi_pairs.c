@@ -270,6 +270,8 @@ typedef struct {
     int c_exact;                 /* coincident exactly (else within c_width <= tol) */
     double c_width;
     _cb_ssi_spline_stats sst;
+    double ubox[8]; /* with sst.uncertified > 0: P's and Q's boxes {u0, u1, v0, v1} (domains)
+                       of every sub-pair left uncertified, tangent regions not resolved too */
     _cb_ssi_tiny_set tiny; /* subdivision route: sub-pairs left for _cb_ssi_tiny_resolve */
     int tiny_within;       /* a tangent region resolved within tol touched the pair */
     int within;            /* counted in pairs_within_tolerance (else certified) */
@@ -1122,7 +1124,8 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
         _cb_ssi_tiny_set *tiny = malloc((size_t)(nj + 1) * sizeof(_cb_ssi_tiny_set));
         char *bad = calloc((size_t)nj + 1, 1);
         long *unres = calloc((size_t)nj + 1, sizeof(long));
-        if (!sets || !psets || !tiny || !bad || !unres)
+        double *bad_box = malloc((size_t)(8 * (nj + 1)) * sizeof(double));
+        if (!sets || !psets || !tiny || !bad || !unres || !bad_box)
             st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory for the curves of %ld "
                               "patch pairs", (long)nj);
         /* Tangent regions the subdivision route left at its floor, resolved over all patch
@@ -1142,9 +1145,9 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
         char *twithin = calloc((size_t)nj + 1, 1);
         if (st == CB_OK && !twithin)
             st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory resolving tangent regions");
-        if (st == CB_OK && _cb_ssi_tiny_resolve(psets, nj, tiny, bad, unres, tol, &regions,
-                                                &nodes, &wt_width, &treg, &ntreg, twithin, Ps,
-                                                Qs, chord, max_seg) < 0)
+        if (st == CB_OK &&
+            _cb_ssi_tiny_resolve(psets, nj, tiny, bad, unres, bad_box, tol, &regions, &nodes,
+                                 &wt_width, &treg, &ntreg, twithin, Ps, Qs, chord, max_seg) < 0)
             st = cb_error_set(err, CB_ERR_NOMEM, "ssi: out of memory resolving tangent regions");
         /* Each resolved region listed: a near node (at most tol across), or a contact band
          * (up to WT_MAX_TOL tol, every member proved within tol of the other surface). */
@@ -1194,6 +1197,19 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
         for (slong k = 0; k < nj && st == CB_OK; k++) {
             pair_job *J = job + k;
             J->pieces = psets[k];
+            /* The pair's uncertified region: its sub-pairs left so, and the clusters not
+             * resolved. */
+            double *ub = J->ubox;
+            if (J->spline && J->sst.uncertified > 0) {
+                box_to_domain(ub, J->sst.box_p, ppat + J->ip);
+                box_to_domain(ub + 4, J->sst.box_q, qpat + J->iq);
+                for (int q = 0; q < 8 && bad[k]; q++) {
+                    double b = bad_box[8 * k + q];
+                    ub[q] = q % 2 ? fmax(ub[q], b) : fmin(ub[q], b);
+                }
+            } else if (bad[k]) {
+                memcpy(ub, bad_box + 8 * k, sizeof J->ubox);
+            }
             if (!bad[k])
                 continue;
             /* A region larger than the tolerance: the pair is not certified. */
@@ -1213,6 +1229,7 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
         free(tiny);
         free(bad);
         free(unres);
+        free(bad_box);
         slong n_coinc = 0, first_coinc = -1;
         int c_exact = 1;
         double c_width = 0;
@@ -1254,12 +1271,9 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
                 }
                 if (J->spline && J->sst.uncertified > 0) {
                     cb_ssi_failure *f = r->failed + r->n_failed - 1;
-                    double bp[4], bq[4];
-                    box_to_domain(bp, J->sst.box_p, ppat + J->ip);
-                    box_to_domain(bq, J->sst.box_q, qpat + J->iq);
                     f->has_box = 1;
-                    memcpy(swapped ? f->box_b : f->box_a, bp, sizeof bp);
-                    memcpy(swapped ? f->box_a : f->box_b, bq, sizeof bq);
+                    memcpy(swapped ? f->box_b : f->box_a, J->ubox, 4 * sizeof(double));
+                    memcpy(swapped ? f->box_a : f->box_b, J->ubox + 4, 4 * sizeof(double));
                 }
             } else if (J->tiny_within || (J->spline && J->sst.side_subpairs > 0)) {
                 r->pairs_within_tolerance++;

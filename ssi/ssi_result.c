@@ -33,6 +33,8 @@ const char *cb_ssi_region_kind_name(cb_ssi_region_kind k)
         return "contact_band";
     case CB_SSI_REGION_SIDE:
         return "side";
+    case CB_SSI_REGION_OUTSIDE_FACE:
+        return "outside_face";
     }
     return "unknown";
 }
@@ -220,6 +222,7 @@ cb_status _cb_ssi_result_move(cb_ssi_result_t r, cb_ssi_result_t s)
     r->pairs_empty += s->pairs_empty;
     r->pairs_certified += s->pairs_certified;
     r->pairs_within_tolerance += s->pairs_within_tolerance;
+    r->pairs_outside_face += s->pairs_outside_face;
     r->pairs_subdivided += s->pairs_subdivided;
     r->pairs_coincident += s->pairs_coincident;
     r->pairs_closed_form += s->pairs_closed_form;
