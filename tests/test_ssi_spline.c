@@ -181,6 +181,25 @@ static void check_certified(const cb_ssi_result_t r, const char *name)
 }
 
 /* Interval evaluation must enclose the point evaluation anywhere in the box. */
+/* The widest interval enclosure of b at 500 random points of [0, 1]^2; bad counts the points
+ * whose floating-point value (within 1e-14) it does not hold. */
+static double widest_at_points(const _cb_ssi_bez *b, check_rng *rng, int *bad)
+{
+    double widest = 0;
+    for (int trial = 0; trial < 500; trial++) {
+        double u = check_rng_uniform(rng, 0, 1), v = check_rng_uniform(rng, 0, 1);
+        _cb_iv X[3], Xu[3], Xv[3];
+        _cb_ssi_bez_eval_iv(X, Xu, Xv, b, _cb_iv_pt(u), _cb_iv_pt(v));
+        double p[3], pu[3], pv[3];
+        _cb_ssi_bez_eval(p, pu, pv, b, u, v);
+        for (int q = 0; q < 3; q++) {
+            *bad += !(p[q] >= X[q].lo - 1e-14 && p[q] <= X[q].hi + 1e-14);
+            widest = fmax(widest, X[q].hi - X[q].lo);
+        }
+    }
+    return widest;
+}
+
 static void test_enclosure(void)
 {
     cb_nurbs_surface_t s;
@@ -272,19 +291,8 @@ static void test_enclosure(void)
     cb_nurbs_surface_make(hs, 6, 10, hk_u, 14, hk_v, 22, hp, hw, 7, 11, &err);
     _cb_ssi_bez hb;
     CHECK(_cb_ssi_bez_set(&hb, hs, &err) == CB_OK && hb.rat == 1, "(6, 10) patch: %s", err.msg);
-    double widest = 0;
     bad = 0;
-    for (int trial = 0; trial < 500 && hb.rat; trial++) {
-        double u = check_rng_uniform(&rng, 0, 1), v = check_rng_uniform(&rng, 0, 1);
-        _cb_iv X[3], Xu[3], Xv[3];
-        _cb_ssi_bez_eval_iv(X, Xu, Xv, &hb, _cb_iv_pt(u), _cb_iv_pt(v));
-        double p[3], pu[3], pv[3];
-        _cb_ssi_bez_eval(p, pu, pv, &hb, u, v);
-        for (int q = 0; q < 3; q++) {
-            bad += !(p[q] >= X[q].lo - 1e-14 && p[q] <= X[q].hi + 1e-14);
-            widest = fmax(widest, X[q].hi - X[q].lo);
-        }
-    }
+    double widest = hb.rat ? widest_at_points(&hb, &rng, &bad) : 0;
     CHECK(bad == 0 && widest < 1e-12,
           "(6, 10) patch at points: %d enclosure failures, widest enclosure %.3g", bad, widest);
     _cb_ssi_bez_clear(&hb);
@@ -304,19 +312,8 @@ static void test_enclosure(void)
     cb_nurbs_surface_make(ps, 5, 3, pk_u, 12, pk_v, 8, pp, NULL, 6, 4, &err);
     _cb_ssi_bez pb;
     CHECK(_cb_ssi_bez_set(&pb, ps, &err) == CB_OK && pb.rat == 0, "(5, 3) patch: %s", err.msg);
-    widest = 0;
     bad = 0;
-    for (int trial = 0; trial < 500; trial++) {
-        double u = check_rng_uniform(&rng, 0, 1), v = check_rng_uniform(&rng, 0, 1);
-        _cb_iv X[3], Xu[3], Xv[3];
-        _cb_ssi_bez_eval_iv(X, Xu, Xv, &pb, _cb_iv_pt(u), _cb_iv_pt(v));
-        double p[3], pu[3], pv[3];
-        _cb_ssi_bez_eval(p, pu, pv, &pb, u, v);
-        for (int q = 0; q < 3; q++) {
-            bad += !(p[q] >= X[q].lo - 1e-14 && p[q] <= X[q].hi + 1e-14);
-            widest = fmax(widest, X[q].hi - X[q].lo);
-        }
-    }
+    widest = widest_at_points(&pb, &rng, &bad);
     printf("(5, 3) patch at points: widest enclosure %.3g\n", widest);
     CHECK(bad == 0 && widest < 2e-14,
           "(5, 3) patch at points: %d enclosure failures, widest enclosure %.3g", bad, widest);
