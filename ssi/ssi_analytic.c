@@ -1107,9 +1107,22 @@ static int param_degree(const cb_analytic_surface *a)
     return a->kind == CB_ANALYTIC_PLANE ? 1 : 2;
 }
 
+/* Box b {u0, u1, v0, v1} in the exact form's parameters, to the analytic surface's (ts: q's
+ * surface as a topology surface). */
+static void box_back(double b[4], const cb_topo_surface *ts, const asurf *q)
+{
+    for (int e = 0; e < 2; e++) {
+        const double st[2] = {b[e], b[2 + e]};
+        double uv[2];
+        cb_topo_surface_nurbs_param(uv, ts, q->range, 1, st);
+        b[e] = uv[0];
+        b[2 + e] = uv[1];
+    }
+}
+
 /* The side converted to NURBS (1: B) gets its own parameters back: each output point, and each
- * mark whose parameters are that side's, inverted onto the analytic surface, region boxes
- * mapped; patch indices of that side become -1. */
+ * mark whose parameters are that side's, inverted onto the analytic surface, region and failure
+ * boxes mapped; patch indices of that side become -1. */
 static void general_fix(cb_ssi_result_t t, const asurf *q, int side)
 {
     for (slong c = 0; c < t->n_curves; c++)
@@ -1129,21 +1142,16 @@ static void general_fix(cb_ssi_result_t t, const asurf *q, int side)
     cb_topo_surface_init(&ts);
     ts.kind = CB_SURFACE_ANALYTIC;
     ts.analytic = *q->a;
-    for (slong k = 0; k < t->n_regions + t->n_failed; k++) {
-        int reg = k < t->n_regions;
-        cb_ssi_region *g = reg ? t->region + k : NULL;
-        cb_ssi_failure *f = reg ? NULL : t->failed + (k - t->n_regions);
-        *(side ? (reg ? &g->patch_b : &f->patch_b) : (reg ? &g->patch_a : &f->patch_a)) = -1;
-        if (!reg && !f->has_box)
-            continue;
-        double *b = reg ? (side ? g->box_b : g->box_a) : (side ? f->box_b : f->box_a);
-        for (int e = 0; e < 2; e++) {
-            const double st[2] = {b[e], b[2 + e]};
-            double uv[2];
-            cb_topo_surface_nurbs_param(uv, &ts, q->range, 1, st);
-            b[e] = uv[0];
-            b[2 + e] = uv[1];
-        }
+    for (slong k = 0; k < t->n_regions; k++) {
+        cb_ssi_region *g = t->region + k;
+        *(side ? &g->patch_b : &g->patch_a) = -1;
+        box_back(side ? g->box_b : g->box_a, &ts, q);
+    }
+    for (slong k = 0; k < t->n_failed; k++) {
+        cb_ssi_failure *f = t->failed + k;
+        *(side ? &f->patch_b : &f->patch_a) = -1;
+        if (f->has_box)
+            box_back(side ? f->box_b : f->box_a, &ts, q);
     }
     cb_topo_surface_clear(&ts);
     for (slong k = 0; k < t->n_marks; k++) {
