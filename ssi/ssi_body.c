@@ -7,6 +7,7 @@
 
 #include "brep/bbox.h"
 #include "brep/face.h"
+#include "brep/geom.h"
 #include "brep/parallel.h"
 #include "ssi/ssi.h"
 
@@ -715,49 +716,13 @@ typedef struct {
     cb_error err;
 } fpair;
 
-/* Distance from the segment p q to the rectangle r = {u0, u1, v0, v1} in (u, v); 0 when they
- * meet. */
-static double seg_rect_dist(const double p[2], const double q[2], const double r[4])
-{
-    /* Meet: the segment clipped to the rectangle (Liang-Barsky) is not empty. */
-    double t0 = 0, t1 = 1, d[2] = {q[0] - p[0], q[1] - p[1]};
-    int meet = 1;
-    for (int k = 0; k < 4 && meet; k++) {
-        int a = k / 2;
-        double num = k % 2 ? r[2 * a + 1] - p[a] : p[a] - r[2 * a], den = k % 2 ? d[a] : -d[a];
-        if (den == 0)
-            meet = num >= 0;
-        else if (den < 0)
-            t0 = fmax(t0, num / den);
-        else
-            t1 = fmin(t1, num / den);
-        meet = meet && t0 <= t1;
-    }
-    if (meet)
-        return 0;
-    double best = HUGE_VAL;
-    for (int e = 0; e < 2; e++) {
-        const double *x = e ? q : p;
-        double du = fmax(0, fmax(r[0] - x[0], x[0] - r[1])),
-               dv = fmax(0, fmax(r[2] - x[1], x[1] - r[3]));
-        best = fmin(best, hypot(du, dv));
-    }
-    double ll = d[0] * d[0] + d[1] * d[1];
-    for (int c = 0; c < 4; c++) {
-        double x[2] = {r[c % 2], r[2 + c / 2]};
-        double t = ll > 0 ? ((x[0] - p[0]) * d[0] + (x[1] - p[1]) * d[1]) / ll : 0;
-        t = fmin(1, fmax(0, t));
-        best = fmin(best, hypot(p[0] + t * d[0] - x[0], p[1] + t * d[1] - x[1]));
-    }
-    return best;
-}
-
 /* 1 when the parameter box (of face f's surface, finite) lies outside the trimmed face, away
- * from its boundary: its centre classifies OUT; no loop segment comes within its deviation
- * bound of the box (every lift of the box by a period counted), so the whole box is on the
- * centre's side of the loops; and the surface over the box (cb_face_surface_box, into x) stays
- * farther than tol plus the edge's tolerance and its pcurve's offset from every boundary edge
- * (the edge's samples, each curve point within gap of one), so no point of it is ON either. */
+ * from its boundary: its centre classifies OUT; no loop segment meets the box grown by the
+ * segment's deviation bound (every lift of the box by a period counted), so the whole box is on
+ * the centre's side of the loops; and no sample of a boundary edge (each curve point within gap
+ * of one) meets the surface's box over it (cb_face_surface_box, into x) grown by tol plus the
+ * edge's tolerance, its pcurve's offset and gap, so no point of it is ON either. Boxes grown
+ * per axis hold the balls of those radii: each test only refuses more. */
 static int box_outside_face(cb_aabb *x, const cb_face *f, const double box[4], double tol)
 {
     for (int k = 0; k < 2; k++) {
@@ -773,10 +738,14 @@ static int box_outside_face(cb_aabb *x, const cb_face *f, const double box[4], d
     for (int i = -ku; i <= ku; i++)
         for (int j = -kv; j <= kv; j++) {
             double su = i * f->inv.period[0], sv = j * f->inv.period[1];
-            double lift[4] = {box[0] + su, box[1] + su, box[2] + sv, box[3] + sv};
-            for (int g = 0; g < f->n_segs; g++)
-                if (!(seg_rect_dist(f->segs[g].p, f->segs[g].q, lift) > f->segs[g].dev))
+            const double lo[3] = {box[0] + su, box[2] + sv, 0};
+            const double hi[3] = {box[1] + su, box[3] + sv, 0};
+            for (int g = 0; g < f->n_segs; g++) {
+                const cb_face_seg *sg = f->segs + g;
+                const double p[3] = {sg->p[0], sg->p[1], 0}, q[3] = {sg->q[0], sg->q[1], 0};
+                if (!(sg->dev >= 0) || cb_seg3_meets_box(p, q, lo, hi, sg->dev))
                     return 0;
+            }
         }
     cb_error e;
     const cb_topo_body *b = f->b;
@@ -789,15 +758,9 @@ static int box_outside_face(cb_aabb *x, const cb_face *f, const double box[4], d
         double margin = tol + ed->off + b->edges[ed->edge].tol + ed->gap;
         if (!cb_aabb_overlap(x, &ed->box, margin))
             continue;
-        for (int k = 0; k <= ed->n; k++) {
-            double d2 = 0;
-            for (int q = 0; q < 3; q++) {
-                double c = ed->samples[k][q], o = fmax(0, fmax(x->lo[q] - c, c - x->hi[q]));
-                d2 += o * o;
-            }
-            if (!(sqrt(d2) > margin))
+        for (int k = 0; k <= ed->n; k++)
+            if (cb_seg3_meets_box(ed->samples[k], ed->samples[k], x->lo, x->hi, margin))
                 return 0;
-        }
     }
     return 1;
 }
