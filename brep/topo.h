@@ -434,7 +434,10 @@ double cb_topo_edge_distance(const cb_topo_body *b, int e, const double p[3]);
  * of revolution and the meridians of spheres and tori: found by testing), a 2D circle or
  * ellipse for a conic on a plane. Otherwise a cubic C1 Hermite B-spline through samples
  * (derivatives from the surface Jacobian, least squares; its minimum-norm solution at a pole),
- * bisected adaptively until the tolerance holds at three test points per piece. Then per loop:
+ * bisected adaptively until the tolerance holds at three test points per piece; a piece the
+ * bisection cannot shorten (1e-12 of the edge: the feet jump, as where an edge passes a concave
+ * crease off the surface) is kept when it lies within the edge's own tolerance (the larger of
+ * tol and the edge's) of the edge's curve at those points. Then per loop:
  * consecutive pcurves are shifted by whole periods so each starts where the previous one ends,
  * and the loop is lifted so its u (v) range is centred in the first period; the two coedges of
  * a seam edge in one face are put on its two sides (the one the loop reaches first stays, the

@@ -556,6 +556,22 @@ static double exact_deviation(const cb_topo_curve *q, const cb_topo_inverter *in
     return worst;
 }
 
+/* Largest |S(q(t)) - C(t)| of the Hermite cubic q between nodes a and b, against the curve
+ * itself, at the piece's quarter points. */
+static double bridge_deviation(const node *a, const node *b, const cb_topo_inverter *inv,
+                               const cb_topo_curve *cv)
+{
+    double worst = 0;
+    for (int j = 1; j <= 3; j++) {
+        double t = a->t + 0.25 * j * (b->t - a->t), w[2], p[3], c[3];
+        hermite(w, a, b, t);
+        cb_topo_inverter_eval(p, inv, w[0], w[1]);
+        cb_topo_curve_eval(c, cv, t);
+        worst = fmax(worst, cb_vec3_dist(p, c));
+    }
+    return worst;
+}
+
 /* A conic on a plane is the same conic in the plane's (u, v): centre and axes in the plane's
  * local coordinates, parameter unchanged. */
 static int plane_conic(cb_topo_curve *out, const cb_topo_surface *s, const cb_topo_curve *cv)
@@ -630,7 +646,7 @@ static cb_status edge_pcurve(cb_topo_curve *out, const cb_topo_body *b, int e,
 {
     const cb_topo_edge *ed = &b->edges[e];
     const cb_topo_curve *cv = &b->curves[ed->curve];
-    double t0 = ed->t0, t1 = ed->t1, ts[1024];
+    double t0 = ed->t0, t1 = ed->t1, ts[1024], etol = fmax(tol, ed->tol);
     int n = initial_params(ts, 1024, cv, t0, t1), cap = 64 > 2 * n ? 64 : 2 * n;
     node *nd = malloc((size_t)cap * sizeof *nd);
     if (!nd)
@@ -665,7 +681,15 @@ static cb_status edge_pcurve(cb_topo_curve *out, const cb_topo_body *b, int e,
             k++;
             continue;
         }
-        if (n >= MAX_NODES || h <= 1e-12 * (t1 - t0)) {
+        int tiny = h <= 1e-12 * (t1 - t0);
+        if (tiny && bridge_deviation(&nd[k], &nd[k + 1], inv, cv) <= etol) {
+            /* The feet jump here (the curve passes a concave crease of the surface off it,
+             * equidistant from both sheets): a piece the bisection cannot shorten further
+             * is kept where it stays within the edge's tolerance of the curve itself. */
+            k++;
+            continue;
+        }
+        if (tiny || n >= MAX_NODES) {
             st = cb_error_set(err, CB_ERR_NUMERIC,
                               "edge %d: pcurve fit stuck at t = %g (deviation %.3g > %.3g): no "
                               "continuous image in the parameter plane",

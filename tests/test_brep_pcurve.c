@@ -596,11 +596,79 @@ static void test_crease(void)
     cb_topo_surface_clear(&S);
 }
 
+/* An edge passing over the concave crease of a V-shaped trough off the surface: a branch of
+ * the hyperbola z = sqrt(y^2 + h^2) (a rational quadratic), h above the crease where it
+ * crosses it, within h of the trough z = |y| everywhere. Its feet jump from one sheet to the
+ * other where it crosses the crease's bisector, so no pcurve follows them within the fitting
+ * tolerance; one within the edge's tolerance does (a Boolean's cut curve along an edge of a
+ * face lying on another: trj5_k1-al-214 against its copy turned 30 degrees about z). */
+static void test_concave_crease(void)
+{
+    const double h = 1e-4, a = 0.5, Z = sqrt(a * a + h * h), etol = 2e-4;
+    double pts[2 * 3 * 3], ku[4] = {0, 0, 1, 1}, kv[5] = {0, 0, 1, 2, 2};
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 3; j++) {
+            double *q = pts + 3 * (i * 3 + j);
+            q[0] = 2.0 * i;
+            q[1] = j - 1.0;
+            q[2] = fabs(j - 1.0);
+        }
+    cb_topo_body *b = cb_topo_body_new();
+    int s = cb_topo_body_add_surface(b);
+    b->surfaces[s].kind = CB_SURFACE_NURBS;
+    cb_error err;
+    cb_status st = cb_nurbs_surface_make(b->surfaces[s].nurbs, 1, 1, ku, 4, kv, 5, pts, NULL, 2,
+                                         3, &err);
+    CHECK(st == CB_OK, "concave crease: %s", err.msg);
+    if (st) {
+        cb_topo_body_free(b);
+        return;
+    }
+    int A = vertex(b, 0.5, -a, Z), B = vertex(b, 1.5, a, Z), D = vertex(b, 1.5, 0, 0),
+        E = vertex(b, 1.5, -a, a);
+    /* The hyperbola: ends on the trough, the tangents' meeting point, weight Z / h. */
+    double cp[9] = {0.5, -a, Z, 1, 0, h * h / Z, 1.5, a, Z}, w[3] = {1, Z / h, 1};
+    double kn[6] = {0, 0, 0, 1, 1, 1};
+    int cv = cb_topo_body_add_curve(b);
+    b->curves[cv].kind = CB_CURVE_NURBS;
+    st = cb_nurbs_curve_make(b->curves[cv].nurbs, 2, kn, 6, cp, w, 3, &err);
+    CHECK(st == CB_OK, "concave crease: %s", err.msg);
+    int eh = edge(b, cv, A, B, 0, 1);
+    b->edges[eh].tol = etol;
+    int f = face(b, s, 1);
+    loop(b, f, 4,
+         (const int[][2]){{eh, 1}, {line_edge(b, B, D), 1}, {line_edge(b, D, E), 1},
+                          {line_edge(b, E, A), 1}});
+    finish(b, 0);
+    b->tol = 1e-6;
+    st = cb_topo_compute_pcurves(b, b->tol, &err);
+    CHECK(st == CB_OK, "concave crease: pcurves: %s", err.msg);
+    if (!st) {
+        cb_topo_inverter inv;
+        CHECK(cb_topo_inverter_init(&inv, &b->surfaces[s], b->tol, &err) == CB_OK, "%s",
+              err.msg);
+        double worst = 0;
+        for (int k = 0; k <= 1000; k++) {
+            double t = k / 1000.0, q[3], p[3], uv[3];
+            cb_topo_curve_eval(uv, &b->pcurves[b->coedges[0].pcurve], t);
+            cb_topo_inverter_eval(q, &inv, uv[0], uv[1]);
+            cb_topo_curve_eval(p, &b->curves[cv], t);
+            worst = fmax(worst, cb_vec3_dist(p, q));
+        }
+        /* within the edge's tolerance, and no better than the curve's distance h / sqrt 2 */
+        CHECK(worst <= etol && worst >= 0.5 * h, "concave crease: pcurve %.3g off its edge",
+              worst);
+        cb_topo_inverter_clear(&inv);
+    }
+    cb_topo_body_free(b);
+}
+
 int main(void)
 {
     double t0 = now();
     test_plate();
     test_crease();
+    test_concave_crease();
     test_cylinder();
     test_sphere();
     test_pole_edge();
