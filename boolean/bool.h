@@ -260,10 +260,12 @@ typedef struct {
  * copies of their surfaces, their boundary pieces edges on copies of the original edge
  * curves, their cuts cubic Hermite B-spline edges through the intersection points with pcurves
  * of the same kind (cb_bool_cut_curve); pieces are sewn into shared edges where their end vertices (welded within
- * CB_BOOL_WELD tol) and curves agree, after a piece that would find no partner is split at
+ * CB_BOOL_WELD tol) and curves agree (the nearest curve; two pieces of one curve between the
+ * same ends sew with each other only), after a piece that would find no partner is split at
  * the ends of other such pieces lying on it (the faces along one curve need not be split at the
- * same points when coincident faces meet a third one); the other pcurves are computed
- * (cb_topo_compute_pcurves).
+ * same points when coincident faces meet a third one); a region whose pieces all sew onto each
+ * other at the same place (a sliver between two curves of different sources within the weld
+ * distance) is no face; the other pcurves are computed (cb_topo_compute_pcurves).
  * The faces are grouped into shells connected by shared edges, each outward shell a solid
  * holding the inward shells (voids) inside it (boolean/op_shells.c); parts that touch only at
  * points are separate solids. The empty result has no solid.

@@ -12,6 +12,7 @@ typedef struct {
     int uses;
     int cut, side, src; /* where its curve comes from: cut index (cut = 1), or the original
                            edge src of operand side */
+    int reserved;       /* made by a piece with a partner (has_partner): for that partner only */
 } edge_info;
 
 typedef struct {
@@ -25,7 +26,25 @@ typedef struct {
     double *mid_uv; /* per coedge of a boundary piece: (u, v) of its middle in the face's window,
                        to lift the computed pcurve there; NaN for cut pieces */
     int cap_mid;
+    struct source_piece *keys; /* every piece that makes an edge, by key (count_sources) */
+    int n_keys;
 } builder;
+
+/* The curve a piece lies on (a cut, or an original edge of one side) and its welded ends. */
+typedef struct {
+    int cut, side, src, lo, hi;
+} source_key;
+
+static int cmp_source_key(const void *a, const void *b)
+{
+    const source_key *x = a, *y = b;
+    int d[5] = {x->cut - y->cut, x->side - y->side, x->src - y->src, x->lo - y->lo,
+                x->hi - y->hi};
+    for (int k = 0; k < 5; k++)
+        if (d[k])
+            return d[k] < 0 ? -1 : 1;
+    return 0;
+}
 
 /* The 3D curve of cut k, made on first use. NULL when out of memory or invalid. */
 static const cb_topo_curve *cut_curve(builder *bd, int k, cb_error *err)
@@ -184,6 +203,45 @@ static cb_status piece_ends(piece_geom *g, builder *bd, const op_region *r, cons
     return g->v_start < 0 || g->v_end < 0 ? CB_ERR_NOMEM : CB_OK;
 }
 
+static source_key key_of(const piece_geom *g, int side, int lo, int hi)
+{
+    return (source_key){g->cut, g->cut ? 0 : side, g->src, lo, hi};
+}
+
+/* Whether edge info in was made from the curve of key k. */
+static int same_source(const edge_info *in, const source_key *k)
+{
+    return in->cut == k->cut && in->src == k->src && (k->cut || in->side == k->side);
+}
+
+/* A piece by its key, with its curve's range. */
+typedef struct source_piece {
+    source_key key;
+    const cb_topo_curve *curve;
+    double t0, t1;
+} source_piece;
+
+/* Whether another piece lies on the same curve between the same ends as the one of key k, over
+ * its midpoint mid (not the other half of a closed curve between the same two vertices): its
+ * natural partner, which it sews onto rather than onto a curve of another source that merely
+ * passes within the weld distance (which one is met first depends on the order of faces). */
+static int has_partner(const builder *bd, const source_key *k, const double mid[3])
+{
+    int lo = 0, hi = bd->n_keys, n = 0;
+    while (lo < hi) { /* the first key >= k */
+        int m = (lo + hi) / 2;
+        if (cmp_source_key(&bd->keys[m].key, k) < 0)
+            lo = m + 1;
+        else
+            hi = m;
+    }
+    for (int i = lo; i < bd->n_keys && !cmp_source_key(&bd->keys[i].key, k); i++) {
+        const source_piece *x = bd->keys + i;
+        n += range_distance(x->curve, x->t0, x->t1, mid) <= bd->weld;
+    }
+    return n >= 2; /* the piece itself and another */
+}
+
 static int grow_info(builder *bd)
 {
     if (bd->b->n_edges < bd->cap_info)
@@ -197,8 +255,10 @@ static int grow_info(builder *bd)
     return 0;
 }
 
-/* The coedge of loop `loop` for piece p: sewn onto an existing edge with the same ends and
- * midpoint used once, or on a new edge. */
+/* The coedge of loop `loop` for piece p: sewn onto the existing edge used once with the same
+ * ends whose curve passes nearest its midpoint (within the weld distance), or on a new edge.
+ * Where another piece lies on the piece's curve between the same ends (has_partner), the two
+ * sew only with each other. */
 static cb_status add_coedge(builder *bd, int loop, const op_region *r, const op_piece *p,
                             const cb_topo_body *X, const cb_bool_cuts *cuts,
                             const cb_topo_inverter *inv, cb_error *err)
@@ -214,15 +274,25 @@ static cb_status add_coedge(builder *bd, int loop, const op_region *r, const op_
         return CB_OK;
     int up = g.t_start < g.t_end;
     int lo = up ? g.v_start : g.v_end, hi = up ? g.v_end : g.v_start;
-    int edge = -1;
-    for (int e = 0; e < b->n_edges && edge < 0; e++)
-        if (bd->info[e].uses == 1 &&
-            ((b->edges[e].v[0] == lo && b->edges[e].v[1] == hi) ||
-             (b->edges[e].v[0] == hi && b->edges[e].v[1] == lo)) &&
-            range_distance(b->curves + b->edges[e].curve, b->edges[e].t0, b->edges[e].t1,
-                           g.mid) <= bd->weld)
-            edge = e;
     const op_src *s = r->srcs + p->src;
+    int edge = -1;
+    source_key key = key_of(&g, r->side, lo < hi ? lo : hi, lo < hi ? hi : lo);
+    int partnered = has_partner(bd, &key, g.mid);
+    double nearest = bd->weld;
+    for (int e = 0; e < b->n_edges; e++) {
+        const edge_info *in = bd->info + e;
+        if (in->uses != 1 ||
+            !((b->edges[e].v[0] == lo && b->edges[e].v[1] == hi) ||
+              (b->edges[e].v[0] == hi && b->edges[e].v[1] == lo)) ||
+            ((partnered || in->reserved) && !same_source(in, &key)))
+            continue;
+        double d = range_distance(b->curves + b->edges[e].curve, b->edges[e].t0, b->edges[e].t1,
+                                  g.mid);
+        if (d <= nearest) {
+            nearest = d;
+            edge = e;
+        }
+    }
     int sense;
     if (edge < 0) {
         if (grow_info(bd))
@@ -253,9 +323,10 @@ static cb_status add_coedge(builder *bd, int loop, const op_region *r, const op_
         bd->info[edge].cut = g.cut;
         bd->info[edge].side = r->side;
         bd->info[edge].src = g.src;
+        bd->info[edge].reserved = partnered;
     }
     const edge_info *in = bd->info + edge;
-    int own_curve = in->cut == g.cut && in->src == g.src && (g.cut || in->side == r->side);
+    int own_curve = same_source(in, &key);
     if (own_curve) {
         /* The edge's curve is this piece's own (the same cut's positions, or the same
          * original edge's curve): along the edge when the traversal runs up the curve. */
@@ -318,6 +389,55 @@ static cb_status add_coedge(builder *bd, int loop, const op_region *r, const op_
         b->coedges[co].pcurve = pc;
     }
     return CB_OK;
+}
+
+/* (u, v) of coedge co's middle in its face's window: the piece's middle, or for a cut piece
+ * its pcurve at the middle of its edge's range. */
+static void coedge_mid_uv(double uv[2], const builder *bd, int co)
+{
+    const cb_topo_body *b = bd->b;
+    if (!isnan(bd->mid_uv[2 * co])) {
+        uv[0] = bd->mid_uv[2 * co];
+        uv[1] = bd->mid_uv[2 * co + 1];
+        return;
+    }
+    const cb_topo_edge *e = b->edges + b->coedges[co].edge;
+    double w[3];
+    cb_topo_pcurve_eval(w, b->pcurves + b->coedges[co].pcurve, 0.5 * (e->t0 + e->t1));
+    uv[0] = w[0];
+    uv[1] = w[1];
+}
+
+/* Whether face f folds onto itself: each of its coedges lies on an edge whose only other use is
+ * a coedge of f running the other way with its middle at the same place in (u, v), less than
+ * half a period away (the two sides of a seam are a period apart). Such a face is a sliver
+ * whose two sides, from different curves less than the weld distance apart, were sewn onto the
+ * same edges: it bounds nothing. */
+static int face_folds(const builder *bd, int f, const cb_topo_inverter *inv)
+{
+    const cb_topo_body *b = bd->b;
+    const cb_topo_face *F = b->faces + f;
+    int first = b->loops[F->first].first, end = b->n_coedges;
+    if (end == first)
+        return 0;
+    for (int c = first; c < end; c++) {
+        const cb_topo_coedge *C = b->coedges + c;
+        if (bd->info[C->edge].uses != 2)
+            return 0;
+        int partner = -1;
+        for (int o = first; o < end && partner < 0; o++)
+            if (o != c && b->coedges[o].edge == C->edge && b->coedges[o].sense != C->sense)
+                partner = o;
+        if (partner < 0)
+            return 0;
+        double a[2], z[2];
+        coedge_mid_uv(a, bd, c);
+        coedge_mid_uv(z, bd, partner);
+        for (int i = 0; i < 2; i++)
+            if (!(fabs(a[i] - z[i]) < (inv->period[i] > 0 ? 0.5 * inv->period[i] : INFINITY)))
+                return 0;
+    }
+    return 1;
 }
 
 /* Moves pcurve pc by (du, dv). */
@@ -447,27 +567,24 @@ static double boundary_pos(const op_src *s, const cb_topo_inverter *inv, const c
     return 0.5 * (a + z);
 }
 
-/* Splits region pieces where a vertex of another piece lies inside them (within weld of the
- * piece's curve, farther than weld from its ends): the two sides of a curve are split at the
- * same points only when they see the same cuts, which coincident faces break (a face's edge
- * along a circle that a coincident face's imprint and a third face's curve split at
- * different points). Each such piece becomes two or more, in traversal order. */
-static cb_status split_t_junctions(builder *bd, op_face *faces, int n_faces,
-                                   const cb_topo_body *A, const cb_topo_body *B, double tol,
-                                   cb_error *err)
+/* Every piece of the kept regions that makes an edge (not one welded into a point, see
+ * add_coedge), with its geometry, in face, region and piece order: *out (*m of them, to be
+ * freed). The pieces' end vertices are welded here: all vertices exist after it. */
+static cb_status edge_pieces(piece_rec **out, int *m, builder *bd, const op_face *faces,
+                             int n_faces, const cb_topo_body *A, const cb_topo_body *B,
+                             double tol, cb_error *err)
 {
     int n = 0;
     for (int fi = 0; fi < n_faces; fi++)
         for (int ri = 0; ri < faces[fi].n_regions; ri++)
             n += faces[fi].regions[ri].loop_start[faces[fi].regions[ri].n_loops];
-    piece_rec *rec = calloc((size_t)n + 1, sizeof *rec);
+    piece_rec *rec = *out = calloc((size_t)n + 1, sizeof *rec);
+    *m = 0;
     if (!rec)
         return cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
     cb_status st = CB_OK;
-    int m = 0;
-    /* Pass 1: every piece's end vertices (welded: all vertices exist after it) and box. */
     for (int fi = 0; fi < n_faces && !st; fi++) {
-        op_face *of = faces + fi;
+        const op_face *of = faces + fi;
         if (!of->n_regions)
             continue;
         const cb_topo_body *X = of->side ? B : A;
@@ -485,30 +602,73 @@ static cb_status split_t_junctions(builder *bd, op_face *faces, int n_faces,
                     break;
                 }
                 if (g.v_start == g.v_end && dist3(g.mid, bd->b->vertices[g.v_start].p) <= bd->weld)
-                    continue; /* welds into a point (add_coedge) */
-                piece_rec *pr = rec + m++;
-                pr->face = fi;
-                pr->region = ri;
-                pr->piece = k;
-                pr->g = g;
-                /* The box of 9 samples, grown by half the longest chord between them: the
-                 * curve bulges past its samples (a circle's lowest point between two of them,
-                 * where another face's cut ended, was outside the box and was never split). */
-                double q[27], chord = 0;
-                for (int j = 0; j <= 8; j++) {
-                    cb_topo_curve_eval(q + 3 * j, g.curve,
-                                       g.t_start + (g.t_end - g.t_start) * j / 8);
-                    if (j)
-                        chord = fmax(chord, dist3(q + 3 * j, q + 3 * j - 3));
-                }
-                cb_aabb_of_points(&pr->box, q, 9, 3);
-                for (int i = 0; i < 3; i++) {
-                    pr->box.lo[i] -= bd->weld + 0.5 * chord;
-                    pr->box.hi[i] += bd->weld + 0.5 * chord;
-                }
+                    continue;
+                rec[(*m)++] = (piece_rec){.face = fi, .region = ri, .piece = k, .g = g};
             }
         }
         cb_topo_inverter_clear(&inv);
+    }
+    return st;
+}
+
+/* Every piece that makes an edge, sorted by key, into bd->keys (has_partner). */
+static cb_status count_sources(builder *bd, const op_face *faces, int n_faces,
+                               const cb_topo_body *A, const cb_topo_body *B, double tol,
+                               cb_error *err)
+{
+    piece_rec *rec;
+    int m;
+    cb_status st = edge_pieces(&rec, &m, bd, faces, n_faces, A, B, tol, err);
+    bd->keys = st ? NULL : malloc((size_t)(m + 1) * sizeof *bd->keys);
+    if (!st && !bd->keys)
+        st = cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
+    for (int i = 0; i < m && !st; i++) {
+        const piece_geom *g = &rec[i].g;
+        int side = faces[rec[i].face].regions[rec[i].region].side;
+        bd->keys[i] = (source_piece){key_of(g, side, rec_lo(rec + i), rec_hi(rec + i)), g->curve,
+                                     fmin(g->t_start, g->t_end), fmax(g->t_start, g->t_end)};
+    }
+    if (!st) {
+        bd->n_keys = m;
+        qsort(bd->keys, (size_t)m, sizeof *bd->keys, cmp_source_key);
+    }
+    free(rec);
+    return st;
+}
+
+/* Splits region pieces where a vertex of another piece lies inside them (within weld of the
+ * piece's curve, farther than weld from its ends): the two sides of a curve are split at the
+ * same points only when they see the same cuts, which coincident faces break (a face's edge
+ * along a circle that a coincident face's imprint and a third face's curve split at
+ * different points). Each such piece becomes two or more, in traversal order. */
+static cb_status split_t_junctions(builder *bd, op_face *faces, int n_faces,
+                                   const cb_topo_body *A, const cb_topo_body *B, double tol,
+                                   cb_error *err)
+{
+    piece_rec *rec;
+    int m;
+    cb_status st = edge_pieces(&rec, &m, bd, faces, n_faces, A, B, tol, err);
+    if (st) {
+        free(rec);
+        return st;
+    }
+    /* Pass 1: every piece's box: 9 samples, grown by half the longest chord between them (the
+     * curve bulges past its samples: a circle's lowest point between two of them, where
+     * another face's cut ended, was outside the box and was never split). */
+    for (int i = 0; i < m; i++) {
+        piece_rec *pr = rec + i;
+        const piece_geom *g = &pr->g;
+        double q[27], chord = 0;
+        for (int j = 0; j <= 8; j++) {
+            cb_topo_curve_eval(q + 3 * j, g->curve, g->t_start + (g->t_end - g->t_start) * j / 8);
+            if (j)
+                chord = fmax(chord, dist3(q + 3 * j, q + 3 * j - 3));
+        }
+        cb_aabb_of_points(&pr->box, q, 9, 3);
+        for (int k = 0; k < 3; k++) {
+            pr->box.lo[k] -= bd->weld + 0.5 * chord;
+            pr->box.hi[k] += bd->weld + 0.5 * chord;
+        }
     }
     /* Pieces that will sew (another with the same ends and midpoint) stay whole; the others
      * may be split, at the ends of other unsewn pieces only. */
@@ -642,7 +802,7 @@ cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, char *where, size_t
     *unmatched = 0;
     builder bd = {cb_topo_body_new(), NULL, 0, weld, cuts,
                   calloc((size_t)cuts->n + 1, sizeof(cb_topo_curve)), calloc((size_t)cuts->n + 1, 1),
-                  NULL, 0};
+                  NULL, 0, NULL, 0};
     if (!bd.b || !bd.cut_curve || !bd.cut_made) {
         cb_topo_body_free(bd.b);
         free(bd.cut_curve);
@@ -666,6 +826,8 @@ cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, char *where, size_t
     }
     if (!st)
         st = split_t_junctions(&bd, faces, n_faces, A, B, tol, err);
+    if (!st)
+        st = count_sources(&bd, faces, n_faces, A, B, tol, err);
     for (int fi = 0; fi < n_faces && !st; fi++) {
         const op_face *of = faces + fi;
         if (of->n_regions == 0)
@@ -678,6 +840,8 @@ cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, char *where, size_t
             break;
         for (int ri = 0; ri < of->n_regions && !st; ri++) {
             const op_region *r = of->regions + ri;
+            int n_edges = b->n_edges, n_curves = b->n_curves, n_pcurves = b->n_pcurves;
+            int n_coedges = b->n_coedges;
             int sf = cb_topo_body_add_surface(b), f = cb_topo_body_add_face(b);
             if (sf < 0 || f < 0) {
                 st = cb_error_set(err, CB_ERR_NOMEM, "bool: out of memory");
@@ -707,10 +871,24 @@ cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, char *where, size_t
             int empty = !st;
             for (int l = b->faces[f].first; l < b->faces[f].first + b->faces[f].count && empty; l++)
                 empty = b->loops[l].count == 0;
+            if (!st && !empty && face_folds(&bd, f, &inv)) {
+                /* Its edges with their curves and pcurves are its own (no other face uses
+                 * them): they go with it. The neighbours' pieces along the sliver's sides are
+                 * sewn to each other, as they would have been had it come after them. */
+                for (int k = n_curves; k < b->n_curves; k++)
+                    cb_topo_curve_clear(b->curves + k);
+                for (int k = n_pcurves; k < b->n_pcurves; k++)
+                    cb_topo_curve_clear(b->pcurves + k);
+                b->n_edges = n_edges;
+                b->n_curves = n_curves;
+                b->n_pcurves = n_pcurves;
+                b->n_coedges = n_coedges;
+                empty = 1;
+            }
             if (empty) {
                 /* Every piece of the region welded into a point (a sliver between a cut and the
-                 * boundary, narrower than the weld distance): no face. The other side's pieces
-                 * along it weld into the same points. */
+                 * boundary, narrower than the weld distance), or the region folds onto itself:
+                 * no face. The other side's pieces along it weld into the same points. */
                 b->n_loops = b->faces[f].first;
                 b->n_faces--;
                 cb_topo_surface_clear(b->surfaces + sf);
@@ -752,6 +930,7 @@ cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, char *where, size_t
         st = cb_topo_body_index(b, err);
     free(bd.info);
     free(bd.mid_uv);
+    free(bd.keys);
     for (int k = 0; k < cuts->n; k++)
         cb_topo_curve_clear(bd.cut_curve + k);
     free(bd.cut_curve);

@@ -50,10 +50,11 @@ void _cb_bool_face_clear(op_face *f);
 
 /* Builds the result body from the kept regions of every face (sources and cuts as the regions
  * refer to them), sewing pieces into edges by their end vertices (welded within weld) and
- * midpoints, after splitting pieces at the vertices of other pieces that lie inside them (the
- * regions' pieces are rewritten). A and B are the operands, cuts the cuts. tol: the body tolerance. *unmatched
- * counts piece ends that found no partner (the result is then not closed), and where[0 ..
- * n_where) then says where the first of them lies and what it is a piece of. */
+ * midpoints (two pieces of one curve between the same ends with each other), dropping regions that
+ * fold onto themselves, after splitting pieces at the vertices of other pieces that lie inside
+ * them (the regions' pieces are rewritten). A and B are the operands, cuts the cuts. tol: the body
+ * tolerance. *unmatched counts piece ends that found no partner (the result is then not closed),
+ * and where[0 .. n_where) then says where the first of them lies and what it is a piece of. */
 cb_status _cb_bool_build(cb_topo_body **out, int *unmatched, char *where, size_t n_where,
                          op_face *faces, int n_faces,
                          const cb_topo_body *A, const cb_topo_body *B, const cb_bool_cuts *cuts,

@@ -1377,6 +1377,30 @@ static void test_occt_torus(void)
 
 /* With an argument, only the named group runs (for debugging): bad, face, corner, steinmetz,
  * brackets, contacts, tricylinder, ujoint, shells, cancel, lens, occt, cardan, birds. */
+/* A box on a cube's face standing out of it by 50 tolerances: the union keeps strips of B's
+ * four side faces 50 tol wide between the cut along A's face and B's edges, narrower than the
+ * weld distance (100 tol), so their short sides weld into points and each strip's long sides
+ * end at the same two vertices, within the weld distance of each other. Each long side sews
+ * with the piece of its own curve (the cut with A's face, B's edge with B's end face), not with
+ * the other side: the strips stay faces and the volume is exact. (B's end face first took the
+ * cut's edge, the strips folded onto themselves and came out as shells of their own.) A
+ * difference and an intersection keep no strip. */
+static void test_sliver(void)
+{
+    double lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1}, lo2[3] = {0.5, 0.2, 0.2};
+    double d = 50 * CB_BOOL_REL_TOL * sqrt(3.0); /* the tolerance: 1e-6 of the boxes' diagonal */
+    double hi2[3] = {1 + d, 0.8, 0.8};
+    cb_topo_body *A = box(lo, hi, 0), *B = box(lo2, hi2, 0);
+    if (A && B) {
+        double vb = 0.36 * (0.5 + d), vi = 0.36 * 0.5;
+        check_op("sliver strips", CB_BOOL_UNION, A, B, 1 + vb - vi, 1e-12, NULL);
+        check_op("sliver strips", CB_BOOL_INTERSECTION, A, B, vi, 1e-12, NULL);
+        check_op("sliver strips", CB_BOOL_DIFFERENCE, A, B, 1 - vi, 1e-12, NULL);
+    }
+    cb_topo_body_free(A);
+    cb_topo_body_free(B);
+}
+
 int main(int argc, char **argv)
 {
     setvbuf(stdout, NULL, _IOLBF, 0);
@@ -1422,8 +1446,10 @@ int main(int argc, char **argv)
         test_ujoint();
     if (!only || !strcmp(only, "occt"))
         test_occt_torus();
-    if (!only || !strcmp(only, "shells"))
+    if (!only || !strcmp(only, "shells")) {
         test_shells();
+        test_sliver();
+    }
     if (!only || !strcmp(only, "cancel"))
         test_cancel();
     if (!only || !strcmp(only, "cardan")) {
