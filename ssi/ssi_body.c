@@ -57,16 +57,16 @@ static int conic_on_plane(double lo[2], double hi[2], const cb_analytic_surface 
 }
 
 /* A face whose surface the driver converted to a rational B-spline for the SSI, or whose
- * B-spline surface it restricted to the knot spans its loops reach. */
+ * B-spline surface it restricted to the part its loops reach. */
 typedef struct {
     int on;                   /* 1: converted; net and range are set */
     const cb_topo_surface *s; /* the face's surface */
     double range[4];          /* its parameter box that net covers */
     cb_nurbs_surface_t net;   /* cb_topo_surface_to_nurbs(s, range), or the restriction */
-    int sub;                  /* 1: net is s's B-spline over fewer knot spans (same
+    int sub;                  /* 1: net is s's B-spline over part of its domain (same
                                  parameters); patch (i, j) of net, of which there are
-                                 sub_npv along v, is (i + off[0], j + off[1]) of s's, of which
-                                 there are npv along v */
+                                 sub_npv along v, lies in patch (i + off[0], j + off[1]) of
+                                 s's, of which there are npv along v */
     int off[2], npv, sub_npv;
     int has_tight;  /* tight is set: the box of s over its loops' (u, v) box */
     cb_aabb tight;
@@ -307,18 +307,43 @@ static int face_range(double range[4], const face_inv *fi, const cb_topo_body *b
     return 1;
 }
 
-/* Knot spans of a B-spline face beyond its loops by more than this fraction of the domain's
- * width are left out of the SSI (restrict_nurbs). */
+/* restrict_nurbs: the box of a B-spline face's loops in (u, v), grown by RESTRICT_MARGIN of
+ * the domain's width, bounds the face for the face pairs' overlap test; the part of its
+ * surface the SSI takes reaches beyond that box by RESTRICT_GROW of the box's width (at least
+ * the margin), so that curves leaving the face end well beyond its boundary, not within the
+ * Boolean's snapping distances of it; a cut within RESTRICT_SNAP of a knot span's width from a
+ * knot moves out to the knot (restrict_end). */
 #define RESTRICT_MARGIN 1e-3
+#define RESTRICT_GROW 0.25
+#define RESTRICT_SNAP 1e-3
 
 /* Distinct knot values of the domain [U[p], U[n]] (n control points) below x: the Bezier
- * patches before x along that direction. */
+ * patches before x along that direction, and the one holding x when x is not a knot. */
 static int spans_below(const double *U, int n, int p, double x)
 {
     int k = 0;
     for (int i = p; i <= n; i++)
         k += U[i] < x && (i == p || U[i] != U[i - 1]);
     return k;
+}
+
+/* Where a restriction of the domain [U[p], U[n + 1]] ends (side -1: its low end, +1: its high
+ * end) when it should reach x: x itself; the end of x's knot span on that side when x lies
+ * within RESTRICT_SNAP of the span's width from either of its knots (no sliver patch, no knot
+ * inserted next to another); the domain's end when x lies beyond it. */
+static double restrict_end(const double *U, int n, int p, double x, int side)
+{
+    if (x <= U[p])
+        return U[p];
+    if (x >= U[n + 1])
+        return U[n + 1];
+    int i = p;
+    while (i < n && U[i + 1] <= x)
+        i++;
+    double a = U[i], b = U[i + 1], snap = RESTRICT_SNAP * (b - a);
+    if (x - a <= snap || b - x <= snap)
+        return side < 0 ? a : (x == a ? a : b);
+    return x;
 }
 
 /* out = s over the parameter box {u0, u1, v0, v1} inside its domain, by knot insertion
@@ -341,21 +366,23 @@ static cb_status sub_net(cb_nurbs_surface_t out, const cb_nurbs_surface_struct *
     return st;
 }
 
-/* A B-spline face as the knot spans of its surface that its loops reach: the box of its
- * coedges' pcurves in (u, v) (a B-spline pcurve by its control points, which hold the whole
- * curve; a line by its ends; a conic by its centre and radius), grown by RESTRICT_MARGIN of
- * the domain and widened to the knot lines around it, cut out of the surface exactly (knot
- * insertion; the parameters stay the surface's). Every point of the face lies inside the
- * loops and so inside that box; an intersection curve running out of it ends on a knot line
- * outside the face, where the Boolean's trim (boolean/cut.c) would have cut it anyway, and
- * the patch pairs it leaves out are those the whole surface would have intersected there.
- * CAD systems trim B-spline faces out of larger surfaces: two copies of a 39-face part had
- * 232 curves of which 20 reached inside both faces. Also sets conv->tight, the box of the
- * surface over the pcurves' box itself (grown by the margin), which bounds the face for the
- * face pairs' overlap test; the 3D edges are checked to lie in it. Returns 1 (conv->net, sub
- * and off set); 0 to use the whole surface (the spans reach its ends: tight may still be set;
- * or a coedge has no pcurve reaching its edge's ends, a loop does not close in (u, v), or an
- * edge leaves that box: tight unset); -1 when out of memory. */
+/* A B-spline face as the part of its surface that its loops reach: the box of its coedges'
+ * pcurves in (u, v) (a B-spline pcurve by its control points, which hold the whole curve; a
+ * line by its ends; a conic by its centre and radius), grown by RESTRICT_GROW of its width (at
+ * least RESTRICT_MARGIN of the domain; out to a knot line when one is that close:
+ * restrict_end), cut out of the surface exactly (knot insertion; the parameters stay the
+ * surface's). Every point of the face lies inside the loops
+ * and so inside that box; an intersection curve running out of it ends on the cut, outside
+ * the face, where the Boolean's trim (boolean/cut.c) would have cut it anyway. CAD systems
+ * trim B-spline faces out of larger surfaces: two copies of a 39-face part had 232 curves of
+ * which 20 reached inside both faces; and a band of a cone written as one span of a B-spline
+ * reaching the apex, against a turned copy, met it at the apex (a point both surfaces pass
+ * through, which subdivision cannot separate) though the band stays far from it. Also sets
+ * conv->tight, the box of the surface over the pcurves' box itself (grown by the margin),
+ * which bounds the face for the face pairs' overlap test; the 3D edges are checked to lie in
+ * it. Returns 1 (conv->net, sub and off set); 0 to use the whole surface (the box reaches its
+ * ends: tight may still be set; or a coedge has no pcurve reaching its edge's ends, a loop does
+ * not close in (u, v), or an edge leaves that box: tight unset); -1 when out of memory. */
 static int restrict_nurbs(face_conv *conv, const cb_topo_surface *ts, const cb_topo_body *b,
                           int face)
 {
@@ -430,14 +457,11 @@ static int restrict_nurbs(face_conv *conv, const cb_topo_surface *ts, const cb_t
         ok = isfinite(a) && isfinite(z);
         tight[2 * d] = fmax(dom[2 * d], a);
         tight[2 * d + 1] = fmin(dom[2 * d + 1], z);
-        cut[2 * d] = dom[2 * d];
-        cut[2 * d + 1] = dom[2 * d + 1];
-        for (int i = p; ok && i <= n + 1; i++)
-            if (U[i] <= a)
-                cut[2 * d] = U[i];
-        for (int i = n + 1; ok && i >= p; i--)
-            if (U[i] >= z)
-                cut[2 * d + 1] = U[i];
+        if (ok) {
+            double g = fmax(m, RESTRICT_GROW * (hi[d] - lo[d]));
+            cut[2 * d] = restrict_end(U, n, p, lo[d] - g, -1);
+            cut[2 * d + 1] = restrict_end(U, n, p, hi[d] + g, 1);
+        }
         whole &= cut[2 * d] == dom[2 * d] && cut[2 * d + 1] == dom[2 * d + 1];
         ok &= cut[2 * d] < cut[2 * d + 1];
     }
@@ -476,8 +500,14 @@ static int restrict_nurbs(face_conv *conv, const cb_topo_surface *ts, const cb_t
     if (st != CB_OK)
         return st == CB_ERR_NOMEM ? -1 : 0;
     conv->sub = 1;
-    conv->off[0] = spans_below(s->knots_u, s->n_u, s->deg_u, cut[0]);
-    conv->off[1] = spans_below(s->knots_v, s->n_v, s->deg_v, cut[2]);
+    for (int d = 0; d < 2; d++) {
+        const double *U = d ? s->knots_v : s->knots_u;
+        int n = d ? s->n_v : s->n_u, p = d ? s->deg_v : s->deg_u;
+        conv->off[d] = spans_below(U, n, p, cut[2 * d]);
+        /* a cut inside a span: that span is the net's first */
+        for (int i = p; i <= n; i++)
+            conv->off[d] -= U[i] < cut[2 * d] && U[i + 1] > cut[2 * d];
+    }
     conv->npv = spans_below(s->knots_v, s->n_v, s->deg_v, dom[3]);
     conv->sub_npv = spans_below(s->knots_v, s->n_v, s->deg_v, cut[3]) - conv->off[1];
     return 1;
@@ -638,8 +668,8 @@ static void reparam(cb_ssi_result_t r, int side, const face_conv *conv)
         *(side ? &r->coincident[k].patch_b : &r->coincident[k].patch_a) = -1;
 }
 
-/* Patch p of a restricted face's net (conv->sub) as the index of that patch of its whole
- * surface (cb_nurbs_surface_extract_bezier's order, u outer); -1 stays -1. */
+/* Patch p of a restricted face's net (conv->sub) as the index of the patch of its whole
+ * surface holding it (cb_nurbs_surface_extract_bezier's order, u outer); -1 stays -1. */
 static int whole_patch(int p, const face_conv *conv)
 {
     int nv = conv->sub_npv;

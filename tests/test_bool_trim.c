@@ -296,7 +296,7 @@ static void test_bad_input(const cb_topo_body *A)
 /* The B-spline quarter of a sphere: the NURBS unit sphere cut by the box x, y >= 0.2, so
  * that its face lies within one knot span in u (a quarter turn). strip: every coedge's pcurve
  * dropped, which makes the SSI take the whole surface (cb_ssi_bodies restricts a B-spline face
- * to the spans its pcurves reach). */
+ * to the part of its surface its pcurves reach). */
 static cb_topo_body *sphere_part(int strip)
 {
     const double c[3] = {0, 0, 0}, ax[3] = {0, 0, 1}, lo[3] = {0.2, 0.2, -2},
@@ -319,8 +319,8 @@ static cb_topo_body *sphere_part(int strip)
     return out;
 }
 
-/* The SSI of a B-spline face restricted to the knot spans its loops reach, against the
- * whole surface, both trimmed to the faces: a sphere meeting the surface only in a span the
+/* The SSI of a B-spline face restricted to the part of its surface its loops reach, against
+ * the whole surface, both trimmed to the faces: a sphere meeting the surface only in a span the
  * face does not reach gives a curve on the whole surface and none on the restricted one
  * (nothing after trimming either way); one meeting the face gives one closed curve either
  * way, the same points. */
