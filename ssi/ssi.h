@@ -389,11 +389,11 @@ cb_status cb_ssi_surfaces(cb_ssi_result_t r, const cb_ssi_surface *A, const cb_s
  * boxes of regions and failures) is mapped back to the face's own surface
  * (cb_topo_surface_nurbs_param, a bijection of the B-spline's domain onto the box, strictly
  * increasing in each direction, so a certified topology stays certified), and its patch
- * indices are -1. A B-spline face whose pcurves agree with its edges is intersected as the
- * part of its surface over the box of its pcurves grown by a quarter of its width, cut out
- * exactly (same parameters; patch indices those of the whole surface's patches holding
- * them), and its box for the overlap test is the surface's over the pcurves' box: parts of a
- * surface outside its face are not intersected (a curve leaving that part ends on its cut,
+ * indices are -1. A B-spline face whose pcurves agree with its edges is intersected as the part of
+ * its surface over the box of its pcurves grown by a quarter of its width (not past the knot lines
+ * around it), cut out exactly (same parameters; patch indices those of the whole surface's patches
+ * holding them), and its box for the overlap test is the surface's over the pcurves' box: parts of
+ * a surface outside its face are not intersected (a curve leaving that part ends on its cut,
  * outside the face). The curves are not clipped to trimming loops. Face pairs that cannot be
  * intersected (a face that could not be bounded or converted) are listed in r->failed with
  * patch indices -1. Coincident face pairs get same_face_normal from the faces'

@@ -311,8 +311,9 @@ static int face_range(double range[4], const face_inv *fi, const cb_topo_body *b
  * the domain's width, bounds the face for the face pairs' overlap test; the part of its
  * surface the SSI takes reaches beyond that box by RESTRICT_GROW of the box's width (at least
  * the margin), so that curves leaving the face end well beyond its boundary, not within the
- * Boolean's snapping distances of it; a cut within RESTRICT_SNAP of a knot span's width from a
- * knot moves out to the knot (restrict_end). */
+ * Boolean's snapping distances of it, but not past the knot lines around the grown box (where
+ * the knot spans are fine, more of them would only add patch pairs); a cut within
+ * RESTRICT_SNAP of a knot span's width from a knot moves out to the knot (restrict_end). */
 #define RESTRICT_MARGIN 1e-3
 #define RESTRICT_GROW 0.25
 #define RESTRICT_SNAP 1e-3
@@ -367,22 +368,22 @@ static cb_status sub_net(cb_nurbs_surface_t out, const cb_nurbs_surface_struct *
 }
 
 /* A B-spline face as the part of its surface that its loops reach: the box of its coedges'
- * pcurves in (u, v) (a B-spline pcurve by its control points, which hold the whole curve; a
- * line by its ends; a conic by its centre and radius), grown by RESTRICT_GROW of its width (at
- * least RESTRICT_MARGIN of the domain; out to a knot line when one is that close:
- * restrict_end), cut out of the surface exactly (knot insertion; the parameters stay the
- * surface's). Every point of the face lies inside the loops
- * and so inside that box; an intersection curve running out of it ends on the cut, outside
- * the face, where the Boolean's trim (boolean/cut.c) would have cut it anyway. CAD systems
- * trim B-spline faces out of larger surfaces: two copies of a 39-face part had 232 curves of
- * which 20 reached inside both faces; and a band of a cone written as one span of a B-spline
- * reaching the apex, against a turned copy, met it at the apex (a point both surfaces pass
- * through, which subdivision cannot separate) though the band stays far from it. Also sets
- * conv->tight, the box of the surface over the pcurves' box itself (grown by the margin),
- * which bounds the face for the face pairs' overlap test; the 3D edges are checked to lie in
- * it. Returns 1 (conv->net, sub and off set); 0 to use the whole surface (the box reaches its
- * ends: tight may still be set; or a coedge has no pcurve reaching its edge's ends, a loop does
- * not close in (u, v), or an edge leaves that box: tight unset); -1 when out of memory. */
+ * pcurves in (u, v) (a B-spline pcurve by its control points, which hold the whole curve; a line by
+ * its ends; a conic by its centre and radius), grown by RESTRICT_GROW of its width (at least
+ * RESTRICT_MARGIN of the domain; out to a knot line when one is that close: restrict_end) but not
+ * past the knot lines around it grown by the margin, cut out of the surface exactly (knot
+ * insertion; the parameters stay the surface's). Every point of the face lies inside the loops and
+ * so inside that box; an intersection curve running out of it ends on the cut, outside the face,
+ * where the Boolean's trim (boolean/cut.c) would have cut it anyway. CAD systems trim B-spline
+ * faces out of larger surfaces: two copies of a 39-face part had 232 curves of which 20 reached
+ * inside both faces; and a band of a cone written as one span of a B-spline reaching the apex,
+ * against a turned copy, met it at the apex (a point both surfaces pass through, which subdivision
+ * cannot separate) though the band stays far from it. Also sets conv->tight, the box of the surface
+ * over the pcurves' box itself (grown by the margin), which bounds the face for the face pairs'
+ * overlap test; the 3D edges are checked to lie in it. Returns 1 (conv->net, sub and off set); 0 to
+ * use the whole surface (the box reaches its ends: tight may still be set; or a coedge has no
+ * pcurve reaching its edge's ends, a loop does not close in (u, v), or an edge leaves that box:
+ * tight unset); -1 when out of memory. */
 static int restrict_nurbs(face_conv *conv, const cb_topo_surface *ts, const cb_topo_body *b,
                           int face)
 {
@@ -458,9 +459,17 @@ static int restrict_nurbs(face_conv *conv, const cb_topo_surface *ts, const cb_t
         tight[2 * d] = fmax(dom[2 * d], a);
         tight[2 * d + 1] = fmin(dom[2 * d + 1], z);
         if (ok) {
-            double g = fmax(m, RESTRICT_GROW * (hi[d] - lo[d]));
-            cut[2 * d] = restrict_end(U, n, p, lo[d] - g, -1);
-            cut[2 * d + 1] = restrict_end(U, n, p, hi[d] + g, 1);
+            /* the knot lines around the box grown by the margin bound the cut */
+            double g = fmax(m, RESTRICT_GROW * (hi[d] - lo[d])), kl = dom[2 * d],
+                   kh = dom[2 * d + 1];
+            for (int i = p; i <= n + 1; i++)
+                if (U[i] <= a)
+                    kl = U[i];
+            for (int i = n + 1; i >= p; i--)
+                if (U[i] >= z)
+                    kh = U[i];
+            cut[2 * d] = fmax(kl, restrict_end(U, n, p, lo[d] - g, -1));
+            cut[2 * d + 1] = fmin(kh, restrict_end(U, n, p, hi[d] + g, 1));
         }
         whole &= cut[2 * d] == dom[2 * d] && cut[2 * d + 1] == dom[2 * d + 1];
         ok &= cut[2 * d] < cut[2 * d + 1];
