@@ -338,9 +338,7 @@ static double restrict_end(const double *U, int n, int p, double x, int side)
         return U[p];
     if (x >= U[n + 1])
         return U[n + 1];
-    int i = p;
-    while (i < n && U[i + 1] <= x)
-        i++;
+    int i = cb_bspline_find_span(n + 1, p, U, x);
     double a = U[i], b = U[i + 1], snap = RESTRICT_SNAP * (b - a);
     if (x - a <= snap || b - x <= snap)
         return side < 0 ? a : (x == a ? a : b);
@@ -512,10 +510,9 @@ static int restrict_nurbs(face_conv *conv, const cb_topo_surface *ts, const cb_t
     for (int d = 0; d < 2; d++) {
         const double *U = d ? s->knots_v : s->knots_u;
         int n = d ? s->n_v : s->n_u, p = d ? s->deg_v : s->deg_u;
-        conv->off[d] = spans_below(U, n, p, cut[2 * d]);
         /* a cut inside a span: that span is the net's first */
-        for (int i = p; i <= n; i++)
-            conv->off[d] -= U[i] < cut[2 * d] && U[i + 1] > cut[2 * d];
+        conv->off[d] = spans_below(U, n, p, cut[2 * d]) -
+                       (U[cb_bspline_find_span(n, p, U, cut[2 * d])] < cut[2 * d]);
     }
     conv->npv = spans_below(s->knots_v, s->n_v, s->deg_v, dom[3]);
     conv->sub_npv = spans_below(s->knots_v, s->n_v, s->deg_v, cut[3]) - conv->off[1];
