@@ -255,31 +255,6 @@ static int grow_info(builder *bd)
     return 0;
 }
 
-/* Whether pcurve pc at edge e's own parameters (the convention of brep/topo.h) lies within tol
- * of the edge's curve at the edge's ends and middle, inside a B-spline pcurve's domain. inv is
- * prepared for the pcurve's surface. */
-static int same_parameter(const cb_topo_curve *pc, const cb_topo_body *b, int e,
-                          const cb_topo_inverter *inv, double tol)
-{
-    const cb_topo_edge *ed = b->edges + e;
-    if (pc->kind == CB_CURVE_NURBS) {
-        double lo, hi;
-        cb_nurbs_curve_domain(pc->nurbs, &lo, &hi);
-        double slack = 1e-9 * (hi - lo);
-        if (ed->t0 < lo - slack || ed->t1 > hi + slack)
-            return 0;
-    }
-    for (int k = 0; k < 3; k++) {
-        double t = ed->t0 + (ed->t1 - ed->t0) * k / 2, w[3], p[3], q[3];
-        cb_topo_curve_eval(w, pc, t);
-        cb_topo_inverter_eval(p, inv, w[0], w[1]);
-        cb_topo_curve_eval(q, b->curves + ed->curve, t);
-        if (!(dist3(p, q) <= tol))
-            return 0;
-    }
-    return 1;
-}
-
 /* The coedge of loop `loop` for piece p: sewn onto the existing edge used once with the same
  * ends whose curve passes nearest its midpoint (within the weld distance), or on a new edge.
  * Where another piece lies on the piece's curve between the same ends (has_partner), the two
@@ -401,7 +376,8 @@ static cb_status add_coedge(builder *bd, int loop, const op_region *r, const op_
             return st;
         b->coedges[co].pcurve = pc;
     } else if (!g.cut && own_curve && X->coedges[s->index].pcurve >= 0 &&
-               same_parameter(X->pcurves + X->coedges[s->index].pcurve, b, edge, inv, b->tol)) {
+               cb_topo_pcurve_convention_gap(X->pcurves + X->coedges[s->index].pcurve, b, edge,
+                                             inv) <= b->tol) {
         /* A piece of one of the face's own edges, on that edge's curve, whose pcurve follows
          * the edge's parameter within the body's tolerance: it holds the piece exactly;
          * fitting one again by inversion can fail near a crease of the surface. Lifted to

@@ -392,6 +392,12 @@ void cb_topo_settle_poles(double *uv, size_t stride, int n, const cb_topo_invert
 double cb_topo_inverter_invert(double uv[2], const cb_topo_inverter *inv, const double p[3],
                                const double guess[2]);
 
+/* How far pcurve pc, taken at edge e's own parameters (the convention above), lies from the
+ * edge's curve: the larger 3D distance at the edge's ends and middle, or HUGE_VAL where the
+ * edge's range leaves a B-spline pcurve's domain. inv is prepared for the pcurve's surface. */
+double cb_topo_pcurve_convention_gap(const cb_topo_curve *pc, const cb_topo_body *b, int e,
+                                     const cb_topo_inverter *inv);
+
 /* Pcurve parameters *s0, *s1 at which the pcurve of coedge c starts and ends, in the coedge's
  * traversal order. A pcurve following the convention above gives the edge's t0, t1 (swapped
  * when the coedge runs against the curve). Otherwise the 3D ends of the edge are inverted on

@@ -854,6 +854,34 @@ static double project_on_pcurve(double *s, const cb_topo_curve *pc, const cb_top
     return best;
 }
 
+double cb_topo_pcurve_convention_gap(const cb_topo_curve *pc, const cb_topo_body *b, int e,
+                                     const cb_topo_inverter *inv)
+{
+    const cb_topo_edge *ed = &b->edges[e];
+    /* The edge's parameters must lie in a B-spline pcurve's domain: a rational arc evaluated
+     * outside it continues along its conic and can match by accident (an edge at
+     * [2 pi, 2 pi + a] against a pcurve on [0, a]). */
+    if (pc->kind == CB_CURVE_NURBS) {
+        double lo, hi;
+        cb_nurbs_curve_domain(pc->nurbs, &lo, &hi);
+        double slack = 1e-9 * (hi - lo);
+        if (ed->t0 < lo - slack || ed->t1 > hi + slack)
+            return HUGE_VAL;
+    }
+    double gap = 0;
+    for (int k = 0; k < 3; k++) {
+        double x = ed->t0 + (ed->t1 - ed->t0) * k / 2, w[3], p[3], q[3];
+        cb_topo_curve_eval(w, pc, x);
+        cb_topo_inverter_eval(p, inv, w[0], w[1]);
+        cb_topo_curve_eval(q, &b->curves[ed->curve], x);
+        double d = cb_vec3_dist(p, q);
+        if (isnan(d))
+            return HUGE_VAL;
+        gap = fmax(gap, d);
+    }
+    return gap;
+}
+
 double cb_topo_coedge_pcurve_range(double *s0, double *s1, const cb_topo_body *b, int c,
                                    const cb_topo_inverter *inv, double tol)
 {
@@ -861,31 +889,17 @@ double cb_topo_coedge_pcurve_range(double *s0, double *s1, const cb_topo_body *b
     const cb_topo_edge *ed = &b->edges[co->edge];
     const cb_topo_curve *pc = &b->pcurves[co->pcurve], *cv = &b->curves[ed->curve];
     int forward = co->sense == ed->same_sense;
-    double ends[2][3], gap = 0;
-    cb_topo_curve_eval(ends[0], cv, ed->t0);
-    cb_topo_curve_eval(ends[1], cv, ed->t1);
-    /* The convention: the pcurve at the edge's own parameters, which must lie in a B-spline
-     * pcurve's domain (a rational arc evaluated outside it continues along its conic and can
-     * match by accident: an edge at [2 pi, 2 pi + a] against a pcurve on [0, a]). */
-    double lo = 0, hi = TWO_PI, t[2];
-    if (pc->kind == CB_CURVE_NURBS) {
-        cb_nurbs_curve_domain(pc->nurbs, &lo, &hi);
-        double slack = 1e-9 * (hi - lo);
-        if (ed->t0 < lo - slack || ed->t1 > hi + slack)
-            gap = HUGE_VAL;
-    }
-    for (int k = 0; k < 3 && gap <= tol; k++) {
-        double x = ed->t0 + (ed->t1 - ed->t0) * k / 2, w[3], p[3], q[3];
-        cb_topo_curve_eval(w, pc, x);
-        cb_topo_inverter_eval(p, inv, w[0], w[1]);
-        cb_topo_curve_eval(q, cv, x);
-        gap = fmax(gap, cb_vec3_dist(p, q));
-    }
+    double gap = cb_topo_pcurve_convention_gap(pc, b, co->edge, inv);
     if (gap <= tol) {
         *s0 = forward ? ed->t0 : ed->t1;
         *s1 = forward ? ed->t1 : ed->t0;
         return gap;
     }
+    double ends[2][3], lo = 0, hi = TWO_PI, t[2];
+    cb_topo_curve_eval(ends[0], cv, ed->t0);
+    cb_topo_curve_eval(ends[1], cv, ed->t1);
+    if (pc->kind == CB_CURVE_NURBS)
+        cb_nurbs_curve_domain(pc->nurbs, &lo, &hi);
     gap = 0;
     for (int k = 0; k < 2; k++)
         gap = fmax(gap, project_on_pcurve(&t[k], pc, inv, ends[k], lo, hi, k ? ed->t1 : ed->t0,
