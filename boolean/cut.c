@@ -1377,22 +1377,45 @@ static int nearest_boundary_uv(double near_uv[2], const cb_face *f, const double
     return 1;
 }
 
-/* An intersection curve inside a face continues, at each end that is not on the face's
- * boundary, in another cut of that face (the curves of closed solids close up). An end that
- * no other cut of the face meets within weld, off the face's boundary but within weld of it,
- * is where the curve reaches the boundary through a piece of curve shorter than the weld
- * distance that the intersection did not give (an edge of the other solid passing that close
- * to an edge of this face: their faces' curves meet near both edges); left as it is, the
- * face's arrangement would keep the cut dangling and not split the face along it. Its (u, v)
- * on that face moves to the boundary's pcurve point nearest to it in space (its point in
- * space and its (u, v) on the other face stay): the pieces' ends weld there. Near an edge of
- * raised tolerance the reach is the weld distance plus twice the end's slack (end_slack):
- * the end, welded to the same crossing on the face across the edge, lies within the edge's
- * tolerance of the edge, and this face's boundary within it again. Ends within half the snap
- * distance of the boundary stay as they are: the arrangement joins them to it. */
-static void attach_loose_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_solid *B,
-                              double weld, double near)
+int _cb_cut_along_boundary(const cb_bool_cut *c, int side, const cb_face *F, double tol)
 {
+    double near = CB_BOOL_SNAP * tol;
+    int on = 1;
+    for (int i = 0; i < c->n && on; i++)
+        on = cb_face_classify_uv(F, c->uv[side][2 * i], c->uv[side][2 * i + 1], near) == CB_FACE_ON;
+    /* Points on the boundary do not make the curve between them run along it: a cut of two
+     * points across a corner of the face has both on it. The middle of each segment on the
+     * cut's curve must be ON too, unless the segment is shorter than the weld distance (its
+     * pieces weld into points: kept, it would only leave a sliver). */
+    for (int i = 0; i + 1 < c->n && on; i++) {
+        double m[2], e[3];
+        for (int k = 0; k < 3; k++)
+            e[k] = c->xyz[3 * (i + 1) + k] - c->xyz[3 * i + k];
+        if (norm3(e) <= CB_BOOL_WELD * tol)
+            continue;
+        cb_bool_cut_point(m, c, side, i + 0.5);
+        on = cb_face_classify_uv(F, m[0], m[1], near) == CB_FACE_ON;
+    }
+    return on;
+}
+
+/* An intersection curve inside a face continues, at each end that is not on the face's
+ * boundary, in another cut of that face (the curves of closed solids close up). An end that no
+ * other cut of the face meets within weld (a cut along the face's boundary does not count), off the
+ * face's boundary but within weld of it, is where the curve reaches the boundary through a piece of
+ * curve shorter than the weld distance that the intersection did not give (an edge of the other
+ * solid passing that close to an edge of this face: their faces' curves meet near both edges); left
+ * as it is, the face's arrangement would keep the cut dangling and not split the face along it. Its
+ * (u, v) on that face moves to the boundary's pcurve point nearest to it in space (its point in
+ * space and its (u, v) on the other face stay): the pieces' ends weld there. Near an edge of raised
+ * tolerance the reach is the weld distance plus twice the end's slack (end_slack): the end, welded
+ * to the same crossing on the face across the edge, lies within the edge's tolerance of the edge,
+ * and this face's boundary within it again. Ends within half the snap distance of the boundary stay
+ * as they are: the arrangement joins them to it. */
+static void attach_loose_ends(cb_bool_cuts *out, const cb_bool_solid *A, const cb_bool_solid *B,
+                              double tol)
+{
+    double weld = CB_BOOL_WELD * tol, near = CB_BOOL_SNAP * tol;
     for (int k = 0; k < out->n; k++) {
         cb_bool_cut *c = out->cut + k;
         if (c->closed)
@@ -1415,6 +1438,12 @@ static void attach_loose_ends(cb_bool_cuts *out, const cb_bool_solid *A, const c
                         double g[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]};
                         met = norm3(g) <= weld;
                     }
+                    /* A cut along the face's boundary does not meet it there: the face's
+                     * split drops it (near an edge that lies off the surface, the other
+                     * solid's small faces along the edge give such cuts, which wander
+                     * within the edge's distance around the boundary). */
+                    if (met)
+                        met = !_cb_cut_along_boundary(d, s, f[s], tol);
                 }
                 double *uv = c->uv[s] + 2 * i, to[2] = {0, 0}, y[3];
                 if (met || cb_topo_inverter_collapsed(&f[s]->inv, uv[0], uv[1]) ||
@@ -1546,7 +1575,7 @@ cb_status cb_bool_cuts_make(cb_bool_cuts *out, const cb_ssi_result_struct *r,
     if (!st)
         snap_ends(out, A, B, CB_BOOL_WELD * tol, CB_BOOL_SNAP * tol);
     if (!st)
-        attach_loose_ends(out, A, B, CB_BOOL_WELD * tol, CB_BOOL_SNAP * tol);
+        attach_loose_ends(out, A, B, tol);
     if (st)
         cb_bool_cuts_clear(out);
     return st;

@@ -40,6 +40,12 @@ void _cb_cut_ctx_init(cut_ctx *cx, const cb_face *fa, const cb_face *fb, double 
 cb_status _cb_cut_split_emit(cb_bool_cuts *out, cut_run *r, int closed, const cut_ctx *cx,
                              const cb_ssi_curve *c, int curve, cb_error *err);
 
+/* Whether cut c runs along the boundary of its face F on side `side`: every point, and the
+ * middle of every segment longer than the weld distance (CB_BOOL_WELD tol), ON the boundary
+ * within CB_BOOL_SNAP tol (cb_face_classify_uv: plus the edge's distance from the surface).
+ * The face's split drops such a cut (boolean/op.c). */
+int _cb_cut_along_boundary(const cb_bool_cut *c, int side, const cb_face *F, double tol);
+
 /* The imprints of coincident faces (boolean/imprint.c): for every record of r->coincident,
  * the boundary edges of each face where they lie inside the other face, appended to out as
  * cuts of the pair (curve index -1). */

@@ -250,7 +250,7 @@ static int seg_along_imprint(const cb_bool_cuts *cuts, const cb_bool_cut *c, int
 }
 
 /* Whether cut k says nothing new to face F (on side `side`): it runs along the face's
- * boundary (every point ON within CB_BOOL_SNAP tolerances), or it is an intersection curve
+ * boundary (_cb_cut_along_boundary), or it is an intersection curve
  * running along coincident faces' imprints on F (both ends of every segment within that of
  * one imprint's polyline: the imprint of one edge may come as several cuts, split where the
  * edge leaves the coincident face or at its window's end, and the curve may run along
@@ -261,23 +261,7 @@ static int redundant_cut(const cb_bool_cuts *cuts, int k, int side, const cb_fac
 {
     const cb_bool_cut *c = cuts->cut + k;
     double near = CB_BOOL_SNAP * tol;
-    int on = 1;
-    for (int i = 0; i < c->n && on; i++)
-        on = cb_face_classify_uv(F, c->uv[side][2 * i], c->uv[side][2 * i + 1], near) == CB_FACE_ON;
-    /* Points on the boundary do not make the curve between them run along it: a cut of two
-     * points across a corner of the face has both on it. The middle of each segment on the
-     * cut's curve must be ON too, unless the segment is shorter than the weld distance (its
-     * pieces weld into points: kept, it would only leave a sliver). */
-    for (int i = 0; i + 1 < c->n && on; i++) {
-        double m[2], e[3];
-        for (int k = 0; k < 3; k++)
-            e[k] = c->xyz[3 * (i + 1) + k] - c->xyz[3 * i + k];
-        if (cb_vec3_norm(e) <= CB_BOOL_WELD * tol)
-            continue;
-        cb_bool_cut_point(m, c, side, i + 0.5);
-        on = cb_face_classify_uv(F, m[0], m[1], near) == CB_FACE_ON;
-    }
-    if (on)
+    if (_cb_cut_along_boundary(c, side, F, tol))
         return 1;
     if (c->curve < 0)
         return 0;
