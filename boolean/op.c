@@ -250,13 +250,12 @@ static int seg_along_imprint(const cb_bool_cuts *cuts, const cb_bool_cut *c, int
 }
 
 /* Whether cut k says nothing new to face F (on side `side`): it runs along the face's
- * boundary (_cb_cut_along_boundary), or it is an intersection curve
- * running along coincident faces' imprints on F (both ends of every segment within that of
- * one imprint's polyline: the imprint of one edge may come as several cuts, split where the
- * edge leaves the coincident face or at its window's end, and the curve may run along
- * several edges), which are sampled finer. Added anyway, it would cross the line it runs
- * along at every other sample, splitting the face's edge where its neighbours do not (slivers
- * as wide as the curve's chord error). */
+ * boundary (_cb_cut_along_boundary), or it is an intersection curve running along coincident faces'
+ * imprints on F (both ends of every segment within that of one imprint's polyline: the imprint of
+ * one edge may come as several cuts, split where the edge leaves the coincident face or at its
+ * window's end, and the curve may run along several edges), which are sampled finer. Added anyway,
+ * it would cross the line it runs along at every other sample, splitting the face's edge where its
+ * neighbours do not (slivers as wide as the curve's chord error). */
 static int redundant_cut(const cb_bool_cuts *cuts, int k, int side, const cb_face *F, double tol)
 {
     const cb_bool_cut *c = cuts->cut + k;
