@@ -377,7 +377,7 @@ static cb_status add_coedge(builder *bd, int loop, const op_region *r, const op_
         b->coedges[co].pcurve = pc;
     } else if (!g.cut && own_curve && X->coedges[s->index].pcurve >= 0 &&
                cb_topo_pcurve_convention_gap(X->pcurves + X->coedges[s->index].pcurve, b, edge,
-                                             inv) <= b->tol) {
+                                             inv, b->tol) <= b->tol) {
         /* A piece of one of the face's own edges, on that edge's curve, whose pcurve follows
          * the edge's parameter within the body's tolerance: it holds the piece exactly;
          * fitting one again by inversion can fail near a crease of the surface. Lifted to

@@ -394,9 +394,11 @@ double cb_topo_inverter_invert(double uv[2], const cb_topo_inverter *inv, const 
 
 /* How far pcurve pc, taken at edge e's own parameters (the convention above), lies from the
  * edge's curve: the larger 3D distance at the edge's ends and middle, or HUGE_VAL where the
- * edge's range leaves a B-spline pcurve's domain. inv is prepared for the pcurve's surface. */
+ * edge's range leaves a B-spline pcurve's domain. The first distance above tol is returned
+ * without looking further (the callers only ask whether it is within tol; this runs for every
+ * coedge in mass properties and tessellation). inv is prepared for the pcurve's surface. */
 double cb_topo_pcurve_convention_gap(const cb_topo_curve *pc, const cb_topo_body *b, int e,
-                                     const cb_topo_inverter *inv);
+                                     const cb_topo_inverter *inv, double tol);
 
 /* Pcurve parameters *s0, *s1 at which the pcurve of coedge c starts and ends, in the coedge's
  * traversal order. A pcurve following the convention above gives the edge's t0, t1 (swapped

@@ -855,7 +855,7 @@ static double project_on_pcurve(double *s, const cb_topo_curve *pc, const cb_top
 }
 
 double cb_topo_pcurve_convention_gap(const cb_topo_curve *pc, const cb_topo_body *b, int e,
-                                     const cb_topo_inverter *inv)
+                                     const cb_topo_inverter *inv, double tol)
 {
     const cb_topo_edge *ed = &b->edges[e];
     /* The edge's parameters must lie in a B-spline pcurve's domain: a rational arc evaluated
@@ -869,7 +869,7 @@ double cb_topo_pcurve_convention_gap(const cb_topo_curve *pc, const cb_topo_body
             return HUGE_VAL;
     }
     double gap = 0;
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < 3 && gap <= tol; k++) {
         double x = ed->t0 + (ed->t1 - ed->t0) * k / 2, w[3], p[3], q[3];
         cb_topo_curve_eval(w, pc, x);
         cb_topo_inverter_eval(p, inv, w[0], w[1]);
@@ -889,7 +889,7 @@ double cb_topo_coedge_pcurve_range(double *s0, double *s1, const cb_topo_body *b
     const cb_topo_edge *ed = &b->edges[co->edge];
     const cb_topo_curve *pc = &b->pcurves[co->pcurve], *cv = &b->curves[ed->curve];
     int forward = co->sense == ed->same_sense;
-    double gap = cb_topo_pcurve_convention_gap(pc, b, co->edge, inv);
+    double gap = cb_topo_pcurve_convention_gap(pc, b, co->edge, inv, tol);
     if (gap <= tol) {
         *s0 = forward ? ed->t0 : ed->t1;
         *s1 = forward ? ed->t1 : ed->t0;
