@@ -4,6 +4,9 @@
 
 #include <math.h>
 
+/* pi to double precision (M_PI is not C11). */
+#define CB_PI 3.14159265358979323846
+
 static inline double cb_vec3_dot(const double a[3], const double b[3])
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];

@@ -202,8 +202,85 @@ static int pcurves_on(const step_file *f, const step_rec *g, long surf, const st
     return n;
 }
 
-/* PCURVE(name, basis_surface, DEFINITIONAL_REPRESENTATION(name, (curve), context)). */
-static cb_status pcurve(step_file *f, const step_rec *r, int *out)
+/* The factors k[0], k[1] that take surface s's parameters as a file writes them into the body's
+ * (1 for a length): ISO 10303-42 measures the angle parameters (u of cylinders and cones, u and
+ * v of spheres and tori, the turning angle of surfaces of revolution, u as the body has it) in
+ * the plane angle unit of the context, angle_rad radians (a file in degrees writes its pcurves
+ * in degrees: trj4_k1_top-pe-214.stp), and the body's surfaces take radians. */
+static void param_scale(double k[2], const cb_topo_surface *s, double angle_rad)
+{
+    k[0] = k[1] = 1;
+    if (s->kind == CB_SURFACE_REVOLUTION)
+        k[0] = angle_rad;
+    if (s->kind != CB_SURFACE_ANALYTIC)
+        return;
+    switch (s->analytic.kind) {
+    case CB_ANALYTIC_SPHERE:
+    case CB_ANALYTIC_TORUS:
+        k[1] = angle_rad;
+        k[0] = angle_rad;
+        break;
+    case CB_ANALYTIC_CYLINDER:
+    case CB_ANALYTIC_CONE:
+        k[0] = angle_rad;
+        break;
+    default:
+        break;
+    }
+}
+
+/* Scales the (u, v) coordinates of pcurve c by k (param_scale), keeping its parameter: a line's
+ * point and velocity, a B-spline's control points; a conic is scaled as it stands where the
+ * scale is uniform, else turned into its rational B-spline over a whole turn first (an affine
+ * image of an ellipse with axes off the u and v directions is no ellipse of the curve kinds). */
+static cb_status scale_pcurve(step_file *f, const step_rec *r, cb_topo_curve *c,
+                              const double k[2])
+{
+    if (k[0] == 1 && k[1] == 1)
+        return CB_OK;
+    if ((c->kind == CB_CURVE_CIRCLE || c->kind == CB_CURVE_ELLIPSE) && k[0] != k[1]) {
+        cb_error local;
+        cb_nurbs_curve_t nc;
+        cb_nurbs_curve_init(nc);
+        if (cb_topo_curve_to_nurbs(nc, c, 0, 2 * CB_PI, 0, &local)) {
+            cb_nurbs_curve_clear(nc);
+            return step_fail(f, r, NULL, local.status, "pcurve: %s", local.msg);
+        }
+        cb_nurbs_curve_swap(c->nurbs, nc);
+        cb_nurbs_curve_clear(nc);
+        c->kind = CB_CURVE_NURBS;
+    }
+    switch (c->kind) {
+    case CB_CURVE_LINE: {
+        double v[2];
+        for (int i = 0; i < 2; i++) {
+            c->frame.o[i] *= k[i];
+            v[i] = c->r1 * c->frame.z[i] * k[i];
+        }
+        c->r1 = hypot(v[0], v[1]);
+        c->frame.z[0] = v[0] / c->r1;
+        c->frame.z[1] = v[1] / c->r1;
+        break;
+    }
+    case CB_CURVE_CIRCLE:
+    case CB_CURVE_ELLIPSE:
+        for (int i = 0; i < 2; i++)
+            c->frame.o[i] *= k[0];
+        c->r1 *= k[0];
+        c->r2 *= k[0];
+        break;
+    case CB_CURVE_NURBS:
+        for (int j = 0; j < c->nurbs->n; j++)
+            for (int i = 0; i < 2; i++)
+                c->nurbs->cw[4 * j + i] *= k[i];
+        break;
+    }
+    return CB_OK;
+}
+
+/* PCURVE(name, basis_surface, DEFINITIONAL_REPRESENTATION(name, (curve), context)) on surface
+ * s, its angle parameters taken into radians (param_scale). */
+static cb_status pcurve(step_file *f, const step_rec *r, const cb_topo_surface *s, int *out)
 {
     int k = step_rec_index(f, r);
     if ((*out = memo_get(f, k, STEP_MEMO_PCURVE)) >= 0)
@@ -224,7 +301,10 @@ static cb_status pcurve(step_file *f, const step_rec *r, int *out)
     int ip = cb_topo_body_add_pcurve(f->body);
     if (ip < 0)
         return no_memory(f);
-    if ((st = step_curve(f, c, 2, &f->body->pcurves[ip])))
+    double scale[2];
+    param_scale(scale, s, f->angle_rad);
+    if ((st = step_curve(f, c, 2, &f->body->pcurves[ip])) ||
+        (st = scale_pcurve(f, c, &f->body->pcurves[ip], scale)))
         return st;
     *out = memo_set(f, k, STEP_MEMO_PCURVE, ip);
     return CB_OK;
@@ -286,7 +366,7 @@ static cb_status attach_pcurves(step_file *f, int fi, long surf, const int *geom
                     continue;
                 int ip[2] = {-1, -1};
                 for (int j = 0; j < n; j++) {
-                    cb_status st = pcurve(f, pc[j], &ip[j]);
+                    cb_status st = pcurve(f, pc[j], &b->surfaces[face->surface], &ip[j]);
                     if (st)
                         return st;
                 }

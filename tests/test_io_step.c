@@ -1357,10 +1357,47 @@ static void test_band_faces(void)
     }
 }
 
+/* Files measuring plane angles in degrees write the angle parameters of their pcurves in degrees
+ * too (ISO 10303-42: u of cylinders and cones, u and v of spheres and tori; trj4_k1_top-pe-214.stp
+ * of the shared corpus). tests/data/degrees holds Open CASCADE's cylinder, cone and torus
+ * (tests/data/occt) rewritten so by tests/data/degrees/to_degrees.py: each loads valid with the
+ * volume and area of its radian original. (Read as radians, the loops ran over dozens of turns:
+ * the cylinder's volume was not integrated, the cone's side face spanned no area.) */
+static void test_degree_pcurves(void)
+{
+    static const char *files[] = {"steinmetz_seams_rot_a.step", "cone.step", "torus.step"};
+    for (size_t k = 0; k < sizeof files / sizeof *files; k++) {
+        cb_mass_props m[2];
+        int ok = 1;
+        for (int deg = 0; deg < 2 && ok; deg++) {
+            char path[1024];
+            snprintf(path, sizeof path, "%s/tests/data/%s/%s", source_dir(),
+                     deg ? "degrees" : "occt", files[k]);
+            cb_topo_body *b = NULL;
+            cb_error err;
+            cb_status st = cb_step_read(&b, path, &err);
+            if (!st && validates(b, path))
+                st = cb_mass_body(&m[deg], b, 1e-12, NULL, &err);
+            CHECK(st == CB_OK, "%s: %s", path, err.msg);
+            ok = st == CB_OK;
+            cb_topo_body_free(b);
+        }
+        if (!ok)
+            continue;
+        double dv = fabs(m[1].volume - m[0].volume), da = fabs(m[1].area - m[0].area);
+        CHECK(dv <= 1e-10 * m[0].volume && da <= 1e-10 * m[0].area,
+              "%s in degrees: volume %.15g area %.15g, in radians %.15g %.15g", files[k],
+              m[1].volume, m[1].area, m[0].volume, m[0].area);
+        printf("%-28s in degrees: volume %.15g (rel %.1e from radians)\n", files[k], m[1].volume,
+               dv / m[0].volume);
+    }
+}
+
 int main(void)
 {
     double t0 = now();
     test_whole_faces();
+    test_degree_pcurves();
     test_band_faces();
     test_models();
     test_clamped_pcurves();
