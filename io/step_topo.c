@@ -84,10 +84,14 @@ static cb_status edge_curve_geometry(step_file *f, const step_rec *r, int *out)
 
 /* Parameter range of the edge from its vertices: the curve runs from a to b (the edge's start
  * and end when same_sense, else swapped). Conics go counterclockwise from a to b (a full turn
- * for a closed edge); a B-spline's ends snap to the domain ends they coincide with. */
+ * for a closed edge); a B-spline's ends snap to the domain ends they coincide with: a vertex
+ * within 10 unc (the file's uncertainty) of a domain end, whose nearest point on the curve lies
+ * within unc of that end. (A curve may run on beyond its edge's vertex by a few uncertainties:
+ * trj3_s1-ct-214.stp's edge 212 starts 1 before its vertex, with unc 0.1.) */
 static void edge_range(cb_topo_edge *e, const cb_topo_curve *c, const double a[3],
-                       const double b[3], double tol)
+                       const double b[3], double unc)
 {
+    double tol = 10 * unc;
     const double two_pi = 6.283185307179586;
     double lo = 0, hi = 0, ta, tb;
     if (c->kind == CB_CURVE_NURBS)
@@ -100,12 +104,14 @@ static void edge_range(cb_topo_edge *e, const cb_topo_curve *c, const double a[3
         if (closed || tb - ta <= 0)
             tb = ta + two_pi;
     } else if (c->kind == CB_CURVE_NURBS) {
-        double pa[3], pb[3];
+        double pa[3], pb[3], fa[3], fb[3];
         cb_topo_curve_eval(pa, c, lo);
         cb_topo_curve_eval(pb, c, hi);
-        if (cb_vec3_dist(a, pa) <= tol)
+        cb_topo_curve_eval(fa, c, ta);
+        cb_topo_curve_eval(fb, c, tb);
+        if (cb_vec3_dist(a, pa) <= tol && cb_vec3_dist(fa, pa) <= unc)
             ta = lo;
-        if (cb_vec3_dist(b, pb) <= tol)
+        if (cb_vec3_dist(b, pb) <= tol && cb_vec3_dist(fb, pb) <= unc)
             tb = hi;
         if (closed && ta == tb) {
             ta = lo;
@@ -168,7 +174,7 @@ static cb_status edge(step_file *f, const step_rec *r, int *out)
     ed->v[1] = iv1;
     ed->tol = f->uncertainty;
     const double *p0 = b->vertices[iv0].p, *p1 = b->vertices[iv1].p;
-    edge_range(ed, &b->curves[ic], same ? p0 : p1, same ? p1 : p0, 10 * f->uncertainty);
+    edge_range(ed, &b->curves[ic], same ? p0 : p1, same ? p1 : p0, f->uncertainty);
     *out = memo_set(f, k, STEP_MEMO_EDGE, e);
     return CB_OK;
 }
