@@ -269,9 +269,18 @@ static int closed_form(double uv[2], const cb_topo_surface *s, const double p[3]
     switch (a->kind) {
     case CB_ANALYTIC_CYLINDER: uv[1] = l[2]; break;
     case CB_ANALYTIC_CONE: {
-        /* Foot on the generator (r + v tan a, v) of the meridian half plane holding p. */
+        /* Foot on the generator (r + v tan a, v) of the meridian half plane holding p, or of
+         * the opposite one, whichever is nearer: the cone has two nappes, and on the far one
+         * (r + v tan a < 0: screw.step's face 6) the point lies across the axis from the
+         * generator of its angle, half a turn round. The distances are the projector's. */
         double sa = sin(a->angle), ca = cos(a->angle);
-        uv[1] = (rho - a->r1) * sa * ca + l[2] * ca * ca;
+        double s = rho;
+        if (fabs((-rho - a->r1) * ca - l[2] * sa) < fabs((rho - a->r1) * ca - l[2] * sa)) {
+            s = -rho;
+            if (!on_axis)
+                uv[0] = atan2(-l[1], -l[0]);
+        }
+        uv[1] = (s - a->r1) * sa * ca + l[2] * ca * ca;
         break;
     }
     case CB_ANALYTIC_SPHERE: uv[1] = atan2(l[2], rho); break;

@@ -343,6 +343,9 @@ static int analytic_surface(cb_topo_body *b, cb_analytic_kind kind, const double
     case CB_ANALYTIC_CYLINDER:
         st = cb_analytic_cylinder(&b->surfaces[s].analytic, &f, r, &err);
         break;
+    case CB_ANALYTIC_CONE:
+        st = cb_analytic_cone(&b->surfaces[s].analytic, &f, r, PI / 4, &err);
+        break;
     default: st = cb_analytic_sphere(&b->surfaces[s].analytic, &f, r, &err); break;
     }
     CHECK(st == CB_OK, "surface: %s", err.msg);
@@ -420,6 +423,58 @@ static void test_cylinder(void)
     CHECK(b->pcurves[b->coedges[0].pcurve].kind == CB_CURVE_LINE &&
               b->pcurves[b->coedges[4].pcurve].kind == CB_CURVE_CIRCLE,
           "cylinder: circle on the side not a line or disc rim not a circle");
+    cb_topo_body_free(b);
+}
+
+/* A frustum on the far nappe of the cone (r + v tan a) (cos u, sin u) + v z (r = 1, a = 45
+ * degrees): its side face between v = -4 and v = -2, where r + v tan a runs from -3 to -1, so
+ * each point lies across the axis from the generator of its angle u (screw.step's face 6 lies
+ * so). The inversion finds every point of that nappe, the pcurves come out at v in [-4, -2], and
+ * the frustum's volume, 26 pi / 3, holds. (The feet were taken on the near generator: the seam's
+ * pcurve collapsed to the apex, 10.6 from its edge in screw.step.) */
+static void test_cone_far_nappe(void)
+{
+    cb_topo_body *b = cb_topo_body_new();
+    double o[3] = {0, 0, 0}, lo[3] = {0, 0, -4}, hi[3] = {0, 0, -2}, z[3] = {0, 0, 1},
+           x[3] = {1, 0, 0};
+    int a = vertex(b, -3, 0, -4), c = vertex(b, -1, 0, -2);
+    int bottom = circle_edge(b, lo, z, x, 3, a, a, PI, 3 * PI);
+    int upper = circle_edge(b, hi, z, x, 1, c, c, PI, 3 * PI);
+    int seam = line_edge(b, a, c);
+    int side = analytic_surface(b, CB_ANALYTIC_CONE, o, 1);
+    int f = face(b, side, 1);
+    const int side_loop[4][2] = {{bottom, 1}, {seam, 1}, {upper, 0}, {seam, 0}};
+    loop(b, f, 4, side_loop);
+    f = face(b, analytic_surface(b, CB_ANALYTIC_PLANE, lo, 0), 0);
+    const int bl[1][2] = {{bottom, 0}}, tl[1][2] = {{upper, 1}};
+    loop(b, f, 1, bl);
+    f = face(b, analytic_surface(b, CB_ANALYTIC_PLANE, hi, 0), 1);
+    loop(b, f, 1, tl);
+    finish(b, 1);
+    cb_topo_inverter inv;
+    cb_error err;
+    CHECK(cb_topo_inverter_init(&inv, &b->surfaces[side], 1e-9, &err) == CB_OK, "cone: %s",
+          err.msg);
+    double worst = 0;
+    for (int i = 0; i < 16; i++) {
+        double uv[2], q[3], want[2] = {0.3 + 0.37 * i, -4 + 0.125 * i};
+        cb_topo_inverter_eval(q, &inv, want[0], want[1]);
+        worst = fmax(worst, cb_topo_inverter_invert(uv, &inv, q, NULL) +
+                                fabs(uv[1] - want[1]));
+    }
+    CHECK(worst < 1e-12, "cone far nappe: inversion off by %g", worst);
+    cb_topo_inverter_clear(&inv);
+    check_solid(b, "cone far nappe", 26 * PI / 3);
+    double v_lo = HUGE_VAL, v_hi = -HUGE_VAL;
+    for (int k = 0; k < 4; k++)
+        for (int end = 0; end < 2; end++) {
+            double uv[3];
+            coedge_uv(uv, b, k, end);
+            v_lo = fmin(v_lo, uv[1]);
+            v_hi = fmax(v_hi, uv[1]);
+        }
+    CHECK(fabs(v_lo + 4) < 1e-12 && fabs(v_hi + 2) < 1e-12,
+          "cone far nappe: side face's pcurves over v in [%g, %g], not [-4, -2]", v_lo, v_hi);
     cb_topo_body_free(b);
 }
 
@@ -670,6 +725,7 @@ int main(void)
     test_crease();
     test_concave_crease();
     test_cylinder();
+    test_cone_far_nappe();
     test_sphere();
     test_pole_edge();
     test_models();
