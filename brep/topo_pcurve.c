@@ -917,9 +917,34 @@ double cb_topo_coedge_pcurve_range(double *s0, double *s1, const cb_topo_body *b
     cb_topo_curve_eval(a, pc, lo);
     cb_topo_curve_eval(z, pc, hi);
     int closed_pc = pc->kind != CB_CURVE_LINE && cb_vec3_dist(a, z) <= 1e-12 * (len + 1.0);
-    if (ed->v[0] == ed->v[1] && closed_pc) {
-        /* A closed edge: the whole pcurve, which starts where it ends. */
+    int closed_edge = ed->v[0] == ed->v[1];
+    if (closed_edge && !closed_pc && pc->kind == CB_CURVE_NURBS) {
+        /* A B-spline pcurve once round a period of the surface (its ends a period apart in
+         * (u, v), one point on the surface): the projections of the edge's one end cannot
+         * tell its two ends apart, and the edge uses it whole. */
+        double pa[3], pz[3];
+        cb_topo_inverter_eval(pa, inv, a[0], a[1]);
+        cb_topo_inverter_eval(pz, inv, z[0], z[1]);
+        if (cb_vec3_dist(pa, pz) <= tol) {
+            closed_pc = 1;
+            t[0] = lo;
+        }
+    }
+    if (closed_edge && closed_pc) {
+        /* A closed edge: the whole pcurve, which starts where it ends, the way round the edge
+         * runs: the pcurve's point a quarter along lies nearer the edge's point a quarter
+         * along than to its point three quarters along. */
         t[1] = t[0] + len;
+        double q[2][3], w[3], p[3];
+        for (int k = 0; k < 2; k++)
+            cb_topo_curve_eval(q[k], cv, ed->t0 + (0.25 + 0.5 * k) * (ed->t1 - ed->t0));
+        cb_topo_pcurve_eval(w, pc, t[0] + 0.25 * len);
+        cb_topo_inverter_eval(p, inv, w[0], w[1]);
+        if (cb_vec3_dist(p, q[1]) < cb_vec3_dist(p, q[0])) {
+            double sw = t[0];
+            t[0] = t[1];
+            t[1] = sw;
+        }
     } else if (closed_pc) {
         /* A closed pcurve can reach t[1] either way round: take the arc whose middle is on the
          * edge (it may run through the domain's end, hence the shift by its length). */

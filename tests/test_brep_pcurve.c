@@ -8,6 +8,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "brep/mass.h"
 #include "brep/tess.h"
 #include "brep/topo.h"
 #include "check.h"
@@ -478,6 +479,60 @@ static void test_cone_far_nappe(void)
     cb_topo_body_free(b);
 }
 
+/* The cylinder of test_cylinder with its circles' parameters running over [2 pi, 4 pi] and the
+ * side face's pcurves of them given as B-spline lines u = s over [0, 2 pi] (as
+ * trj2_io1-ec-214.stp writes a hole): the pcurves do not follow the edges' parameters, so each
+ * coedge's part is found by projection, and each closed edge takes its pcurve whole, the way
+ * round its coedge runs: the upper circle, used against its direction, from u = 2 pi to 0. The
+ * volume is the cylinder's. (Both ends of the pcurve are one point on the surface, and the two
+ * projections could not tell them apart: here both circles came out empty and the volume a third
+ * of the cylinder's; in trj2_io1-ec-214.stp a circle ran the wrong way, its loop wound twice
+ * round the surface, and the volume was refused.) */
+static void test_closed_edge_period_pcurve(void)
+{
+    cb_topo_body *b = cb_topo_body_new();
+    double o[3] = {0, 0, 0}, top[3] = {0, 0, 2}, z[3] = {0, 0, 1}, x[3] = {1, 0, 0};
+    int a = vertex(b, 1, 0, 0), c = vertex(b, 1, 0, 2);
+    int bottom = circle_edge(b, o, z, x, 1, a, a, 2 * PI, 4 * PI);
+    int upper = circle_edge(b, top, z, x, 1, c, c, 2 * PI, 4 * PI);
+    int seam = line_edge(b, a, c);
+    int side = analytic_surface(b, CB_ANALYTIC_CYLINDER, o, 1);
+    int f = face(b, side, 1);
+    const int side_loop[4][2] = {{bottom, 1}, {seam, 1}, {upper, 0}, {seam, 0}};
+    loop(b, f, 4, side_loop);
+    f = face(b, analytic_surface(b, CB_ANALYTIC_PLANE, o, 0), 0);
+    const int bl[1][2] = {{bottom, 0}}, tl[1][2] = {{upper, 1}};
+    loop(b, f, 1, bl);
+    f = face(b, analytic_surface(b, CB_ANALYTIC_PLANE, top, 0), 1);
+    loop(b, f, 1, tl);
+    finish(b, 1);
+    cb_error err;
+    CHECK(cb_topo_compute_pcurves(b, 1e-9, &err) == CB_OK, "period pcurve: %s", err.msg);
+    for (int k = 0; k < 3; k += 2) {
+        int p = cb_topo_body_add_pcurve(b);
+        double knots[4] = {0, 0, 2 * PI, 2 * PI}, pts[6] = {0, k, 0, 2 * PI, k, 0};
+        b->pcurves[p].kind = CB_CURVE_NURBS;
+        CHECK(cb_nurbs_curve_make(b->pcurves[p].nurbs, 1, knots, 4, pts, NULL, 2, &err) == CB_OK,
+              "period pcurve: %s", err.msg);
+        b->coedges[k].pcurve = p;
+    }
+    cb_topo_inverter inv;
+    CHECK(cb_topo_inverter_init(&inv, &b->surfaces[side], 1e-9, &err) == CB_OK, "inverter: %s",
+          err.msg);
+    double r[2][2];
+    for (int k = 0; k < 2; k++)
+        cb_topo_coedge_pcurve_range(&r[k][0], &r[k][1], b, 2 * k, &inv, 1e-9);
+    cb_topo_inverter_clear(&inv);
+    CHECK(r[0][0] == 0 && r[0][1] == 2 * PI && r[1][0] == 2 * PI && r[1][1] == 0,
+          "period pcurve: bottom circle over [%g, %g], upper over [%g, %g]", r[0][0], r[0][1],
+          r[1][0], r[1][1]);
+    cb_mass_props m;
+    cb_status st = cb_mass_shell(&m, b, 0, 0, NULL, &err);
+    CHECK(st == CB_OK && fabs(m.volume - 2 * PI) < 1e-9, "period pcurve: volume %.15g: %s",
+          st ? 0.0 : m.volume, st ? err.msg : "");
+    cb_topo_body_free(b);
+}
+
 /* Unit sphere: one face bounded by the meridian u = 0 from pole to pole, used twice. */
 static void test_sphere(void)
 {
@@ -726,6 +781,7 @@ int main(void)
     test_concave_crease();
     test_cylinder();
     test_cone_far_nappe();
+    test_closed_edge_period_pcurve();
     test_sphere();
     test_pole_edge();
     test_models();
