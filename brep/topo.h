@@ -404,7 +404,8 @@ double cb_topo_pcurve_convention_gap(const cb_topo_curve *pc, const cb_topo_body
  * traversal order. A pcurve following the convention above gives the edge's t0, t1 (swapped
  * when the coedge runs against the curve). Otherwise the 3D ends of the edge are inverted on
  * the surface and projected onto the pcurve in (u, v), trying the lifts by whole periods; a
- * closed edge takes its pcurve's whole domain (a full turn for a conic), and on a closed
+ * closed edge takes its pcurve's whole domain (a full turn for a conic; a B-spline once round a
+ * period of the surface, its ends one point of it) the way round the edge runs, and on a closed
  * pcurve the way round is the one whose middle lies on the edge: s1 may then lie outside a
  * B-spline's domain (evaluate with cb_topo_pcurve_eval). Returns the larger 3D
  * distance between an edge end and the surface point of the pcurve end found (the projection

@@ -393,25 +393,41 @@ static void check_solid(cb_topo_body *b, const char *what, double volume)
     flip_faces(b); /* back as built, for the callers' checks of its coedges */
 }
 
+/* A solid of revolution about z between heights h[0] < h[1]: a side face on a cylinder or cone
+ * (radius 1 at z = 0, a cone's semi-angle 45 degrees; the face's normal S_u x S_v outward)
+ * bounded by the circles of radii r[0], r[1] at those heights, counter-clockwise about z over
+ * [t0, t0 + 2 pi] from their vertices at angle t0, and by the seam line between the vertices,
+ * used twice (coedges 0..3: bottom, seam up, top back, seam down); and two discs. Returns the
+ * side face's surface. */
+static int revolved_solid(cb_topo_body *b, cb_analytic_kind kind, const double h[2],
+                          const double r[2], double t0)
+{
+    double o[3] = {0, 0, 0}, lo[3] = {0, 0, h[0]}, hi[3] = {0, 0, h[1]}, z[3] = {0, 0, 1},
+           x[3] = {1, 0, 0};
+    int a = vertex(b, r[0] * cos(t0), r[0] * sin(t0), h[0]);
+    int c = vertex(b, r[1] * cos(t0), r[1] * sin(t0), h[1]);
+    int bottom = circle_edge(b, lo, z, x, r[0], a, a, t0, t0 + 2 * PI);
+    int upper = circle_edge(b, hi, z, x, r[1], c, c, t0, t0 + 2 * PI);
+    int seam = line_edge(b, a, c);
+    int side = analytic_surface(b, kind, o, 1);
+    int f = face(b, side, 1);
+    const int side_loop[4][2] = {{bottom, 1}, {seam, 1}, {upper, 0}, {seam, 0}};
+    loop(b, f, 4, side_loop);
+    f = face(b, analytic_surface(b, CB_ANALYTIC_PLANE, lo, 0), 0);
+    const int bl[1][2] = {{bottom, 0}}, tl[1][2] = {{upper, 1}};
+    loop(b, f, 1, bl);
+    f = face(b, analytic_surface(b, CB_ANALYTIC_PLANE, hi, 0), 1);
+    loop(b, f, 1, tl);
+    finish(b, 1);
+    return side;
+}
+
 /* Radius 1, height 2: side face with the seam line used twice, two discs. */
 static void test_cylinder(void)
 {
     cb_topo_body *b = cb_topo_body_new();
-    double o[3] = {0, 0, 0}, top[3] = {0, 0, 2}, z[3] = {0, 0, 1}, x[3] = {1, 0, 0};
-    int a = vertex(b, 1, 0, 0), c = vertex(b, 1, 0, 2);
-    int bottom = circle_edge(b, o, z, x, 1, a, a, 0, 2 * PI);
-    int upper = circle_edge(b, top, z, x, 1, c, c, 0, 2 * PI);
-    int seam = line_edge(b, a, c);
-    int side = analytic_surface(b, CB_ANALYTIC_CYLINDER, o, 1);
-    int f = face(b, side, 1);
-    const int side_loop[4][2] = {{bottom, 1}, {seam, 1}, {upper, 0}, {seam, 0}};
-    loop(b, f, 4, side_loop);
-    f = face(b, analytic_surface(b, CB_ANALYTIC_PLANE, o, 0), 0);
-    const int bl[1][2] = {{bottom, 0}}, tl[1][2] = {{upper, 1}};
-    loop(b, f, 1, bl);
-    f = face(b, analytic_surface(b, CB_ANALYTIC_PLANE, top, 0), 1);
-    loop(b, f, 1, tl);
-    finish(b, 1);
+    const double h[2] = {0, 2}, r[2] = {1, 1};
+    revolved_solid(b, CB_ANALYTIC_CYLINDER, h, r, 0);
     check_solid(b, "cylinder", 2 * PI);
     /* check_solid leaves the body as built: the seam's two coedges must be on the two sides,
      * u = 2 pi going up after the bottom circle, u = 0 coming down. */
@@ -436,22 +452,8 @@ static void test_cylinder(void)
 static void test_cone_far_nappe(void)
 {
     cb_topo_body *b = cb_topo_body_new();
-    double o[3] = {0, 0, 0}, lo[3] = {0, 0, -4}, hi[3] = {0, 0, -2}, z[3] = {0, 0, 1},
-           x[3] = {1, 0, 0};
-    int a = vertex(b, -3, 0, -4), c = vertex(b, -1, 0, -2);
-    int bottom = circle_edge(b, lo, z, x, 3, a, a, PI, 3 * PI);
-    int upper = circle_edge(b, hi, z, x, 1, c, c, PI, 3 * PI);
-    int seam = line_edge(b, a, c);
-    int side = analytic_surface(b, CB_ANALYTIC_CONE, o, 1);
-    int f = face(b, side, 1);
-    const int side_loop[4][2] = {{bottom, 1}, {seam, 1}, {upper, 0}, {seam, 0}};
-    loop(b, f, 4, side_loop);
-    f = face(b, analytic_surface(b, CB_ANALYTIC_PLANE, lo, 0), 0);
-    const int bl[1][2] = {{bottom, 0}}, tl[1][2] = {{upper, 1}};
-    loop(b, f, 1, bl);
-    f = face(b, analytic_surface(b, CB_ANALYTIC_PLANE, hi, 0), 1);
-    loop(b, f, 1, tl);
-    finish(b, 1);
+    const double h[2] = {-4, -2}, r[2] = {3, 1};
+    int side = revolved_solid(b, CB_ANALYTIC_CONE, h, r, PI);
     cb_topo_inverter inv;
     cb_error err;
     CHECK(cb_topo_inverter_init(&inv, &b->surfaces[side], 1e-9, &err) == CB_OK, "cone: %s",
@@ -491,21 +493,8 @@ static void test_cone_far_nappe(void)
 static void test_closed_edge_period_pcurve(void)
 {
     cb_topo_body *b = cb_topo_body_new();
-    double o[3] = {0, 0, 0}, top[3] = {0, 0, 2}, z[3] = {0, 0, 1}, x[3] = {1, 0, 0};
-    int a = vertex(b, 1, 0, 0), c = vertex(b, 1, 0, 2);
-    int bottom = circle_edge(b, o, z, x, 1, a, a, 2 * PI, 4 * PI);
-    int upper = circle_edge(b, top, z, x, 1, c, c, 2 * PI, 4 * PI);
-    int seam = line_edge(b, a, c);
-    int side = analytic_surface(b, CB_ANALYTIC_CYLINDER, o, 1);
-    int f = face(b, side, 1);
-    const int side_loop[4][2] = {{bottom, 1}, {seam, 1}, {upper, 0}, {seam, 0}};
-    loop(b, f, 4, side_loop);
-    f = face(b, analytic_surface(b, CB_ANALYTIC_PLANE, o, 0), 0);
-    const int bl[1][2] = {{bottom, 0}}, tl[1][2] = {{upper, 1}};
-    loop(b, f, 1, bl);
-    f = face(b, analytic_surface(b, CB_ANALYTIC_PLANE, top, 0), 1);
-    loop(b, f, 1, tl);
-    finish(b, 1);
+    const double h[2] = {0, 2}, radii[2] = {1, 1};
+    int side = revolved_solid(b, CB_ANALYTIC_CYLINDER, h, radii, 2 * PI);
     cb_error err;
     CHECK(cb_topo_compute_pcurves(b, 1e-9, &err) == CB_OK, "period pcurve: %s", err.msg);
     for (int k = 0; k < 3; k += 2) {
