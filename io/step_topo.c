@@ -86,8 +86,8 @@ static cb_status edge_curve_geometry(step_file *f, const step_rec *r, int *out)
  * and end when same_sense, else swapped). Conics go counterclockwise from a to b (a full turn
  * for a closed edge); a B-spline's ends snap to the domain ends they coincide with: a vertex
  * within 10 unc (the file's uncertainty) of a domain end, whose nearest point on the curve lies
- * within unc of that end. (A curve may run on beyond its edge's vertex by a few uncertainties:
- * trj3_s1-ct-214.stp's edge 212 starts 1 before its vertex, with unc 0.1.) */
+ * within unc of that end. (A curve may run on beyond its edge's vertex by ten uncertainties or
+ * more: trj3_s1-ct-214.stp's edge 212 starts 1 before its vertex, with unc 0.1.) */
 static void edge_range(cb_topo_edge *e, const cb_topo_curve *c, const double a[3],
                        const double b[3], double unc)
 {
