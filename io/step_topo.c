@@ -235,10 +235,11 @@ static void param_scale(double k[2], const cb_topo_surface *s, double angle_rad)
     }
 }
 
-/* Scales the (u, v) coordinates of pcurve c by k (param_scale), keeping its parameter: a line's
- * point and velocity, a B-spline's control points; a conic is scaled as it stands where the
- * scale is uniform, else turned into its rational B-spline over a whole turn first (an affine
- * image of an ellipse with axes off the u and v directions is no ellipse of the curve kinds). */
+/* Scales the (u, v) coordinates of pcurve c by k (param_scale): a line's point and velocity, a
+ * B-spline's control points, keeping the parameter; a conic as it stands where the scale is
+ * uniform, else turned into its rational B-spline over a whole turn first, which has a
+ * parameter of its own (an affine image of an ellipse with axes off the u and v directions is
+ * no ellipse of the curve kinds; pcurves need not share their edge's parameter). */
 static cb_status scale_pcurve(step_file *f, const step_rec *r, cb_topo_curve *c,
                               const double k[2])
 {
